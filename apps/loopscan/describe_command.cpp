@@ -1,0 +1,100 @@
+// loopscan describe: SO-DSO poses + points -> signatures.txt, incoming_id_file.txt, timing.json
+#include <cstdio>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/io/atomic_file.hpp"
+#include "loopscan/io/incoming_ids.hpp"
+#include "loopscan/io/matrix_text.hpp"
+#include "loopscan/io/sodso.hpp"
+#include "options.hpp"
+
+namespace loopscan::cli {
+namespace {
+
+struct DescribeArgs {
+  std::string method, poses, points, out, mode = "default", reset_ids;
+  double range_m = 45.0;
+};
+
+Eigen::MatrixXd stack(const std::vector<Signature>& sigs, Method method) {
+  const int rows = rows_per_place(method);
+  const Eigen::Index cols = sigs.empty() ? signature_columns(method) : sigs.front().cols();
+  Eigen::MatrixXd all(static_cast<Eigen::Index>(sigs.size()) * rows, cols);
+  for (std::size_t i = 0; i < sigs.size(); ++i) all.middleRows(i * rows, rows) = sigs[i];
+  return all;
+}
+
+void run_describe(const DescribeArgs& a) {
+  const Method method = parse_method(a.method);
+  const Mode mode = parse_mode(a.mode);
+  if (!(a.range_m > 0)) throw std::invalid_argument("--range must be positive");
+  const std::vector<KeyframePose> poses = io::read_sodso_poses(a.poses);
+  io::PointReadStats stats;
+  const std::vector<IdPoint> points = io::read_sodso_points(a.points, &stats);
+  if (stats.non_finite_skipped > 0) {
+    std::fprintf(stderr, "warning: %s: skipped %zu points with NaN/inf values\n", a.points.c_str(),
+                 stats.non_finite_skipped);
+  }
+  if (stats.intensity_clamped > 0) {
+    std::fprintf(stderr, "warning: %s: clamped %zu intensities to [0, 255]\n", a.points.c_str(),
+                 stats.intensity_clamped);
+  }
+
+  SequenceOptions options = SequenceOptions::make(method, mode, a.range_m);
+  if (mode == Mode::Default) {
+    options.reset_ids = a.reset_ids.empty() ? detect_vo_resets(poses)
+                                            : io::read_incoming_ids(a.reset_ids);
+  }
+  const SequenceSignatures result = describe_sequence(poses, points, options);
+  if (result.signatures.empty()) {
+    std::fprintf(stderr,
+                 "warning: no signatures: %zu keyframes, but the first %d after each VO reset "
+                 "only accumulate points\n",
+                 poses.size(), options.imitation.init_frames);
+  }
+
+  std::filesystem::create_directories(a.out);
+  io::write_matrix_text(a.out + "/signatures.txt", stack(result.signatures, method));
+  io::write_incoming_ids(a.out + "/incoming_id_file.txt", result.keyframe_ids);
+  const nlohmann::json timing = {
+      {"method", method_name(method)},
+      {"mode", mode_name(mode)},
+      {"range_m", a.range_m},
+      {"filter", filter_for(method) == ScanFilter::Cartesian ? "cartesian" : "polar"},
+      {"n_keyframes", poses.size()},
+      {"n_signatures", result.signatures.size()},
+      {"reset_ids", options.reset_ids},
+      {"imitate_ms", result.imitate_ms},
+      {"describe_ms", result.describe_ms},
+      {"mean_points_in_range", result.mean_in_range},
+      {"mean_points_filtered", result.mean_filtered},
+      {"points_non_finite_skipped", stats.non_finite_skipped},
+      {"points_intensity_clamped", stats.intensity_clamped}};
+  io::write_file_atomic(a.out + "/timing.json", timing.dump(1) + "\n");
+  std::printf("%s (%s): %zu signatures from %zu keyframes; %.3f ms imitate + %.3f ms describe "
+              "per keyframe -> %s\n",
+              method_name(method).c_str(), mode_name(mode).c_str(), result.signatures.size(),
+              poses.size(), result.imitate_ms, result.describe_ms, a.out.c_str());
+}
+
+}  // namespace
+
+void add_describe_command(CLI::App& app) {
+  auto args = std::make_shared<DescribeArgs>();
+  CLI::App* cmd = app.add_subcommand("describe", "Imitate LiDAR scans and describe every keyframe");
+  cmd->add_option("--method", args->method, "sc | m2dp | delight")->required();
+  cmd->add_option("--poses", args->poses, "SO-DSO poses_history_file.txt")->required();
+  cmd->add_option("--points", args->points, "SO-DSO pts_history_file.txt (or .gz)")->required();
+  cmd->add_option("--out", args->out, "output directory")->required();
+  cmd->add_option("--mode", args->mode, "reference | default")->capture_default_str();
+  cmd->add_option("--range", args->range_m, "imitated LiDAR range in m")->capture_default_str();
+  cmd->add_option("--reset-ids", args->reset_ids,
+                  "default mode: file of keyframe ids where the VO reset (else detected)");
+  cmd->callback([args] { run_describe(*args); });
+}
+
+}  // namespace loopscan::cli

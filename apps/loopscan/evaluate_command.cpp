@@ -1,0 +1,123 @@
+// loopscan evaluate: signatures + ground truth -> metrics.json, pr.csv, matches.csv, pr.svg
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "loopscan/eval/place_evaluation.hpp"
+#include "loopscan/io/atomic_file.hpp"
+#include "loopscan/report/pr_plot.hpp"
+#include "options.hpp"
+#include "signature_set.hpp"
+
+namespace loopscan::cli {
+namespace {
+
+struct EvaluateArgs {
+  std::string method, signatures, ids, gt, gt_format = "kitti", against, gt2, fusion = "fused",
+                                      mode = "default", out;
+  double threshold_m = -1;
+  int mask = -1;
+};
+
+void write_outputs(const std::string& dir, const SignatureSet& queries, const SignatureSet& db,
+                   const eval::PlaceEvaluation& ev, const nlohmann::json& metrics,
+                   const std::string& title) {
+  std::filesystem::create_directories(dir);
+  io::write_file_atomic(dir + "/metrics.json", metrics.dump(1) + "\n");
+  std::ostringstream pr, matches;
+  pr.precision(10);
+  matches.precision(10);
+  pr << "rank,precision,recall\n";
+  for (std::size_t k = 0; k < ev.pr.curve.size(); ++k) {
+    pr << k + 1 << ',' << ev.pr.curve[k].precision << ',' << ev.pr.curve[k].recall << '\n';
+  }
+  matches << "query_id,matched_id,distance,is_true\n";
+  for (const eval::RankedMatch& r : ev.pr.ranked) {
+    matches << queries.keyframe_ids[r.m.query] << ',' << db.keyframe_ids[r.m.match] << ','
+            << r.m.distance << ',' << (r.is_true ? 1 : 0) << '\n';
+  }
+  io::write_file_atomic(dir + "/pr.csv", pr.str());
+  io::write_file_atomic(dir + "/matches.csv", matches.str());
+  const report::Series curve = report::pr_series(ev.pr.curve, title);
+  io::write_file_atomic(dir + "/pr.svg", report::pr_curve_svg({curve}, title));
+}
+
+void run_evaluate(const EvaluateArgs& a) {
+  const Method method = parse_method(a.method);
+  const Mode mode = parse_mode(a.mode);
+  const Fusion fusion = parse_fusion(a.fusion);
+  SignatureSet queries = load_signature_set(a.signatures, method, a.ids);
+  attach_positions(queries, a.gt, a.gt_format);
+  const bool cross = !a.against.empty();
+  SignatureSet db = queries;
+  if (cross) {
+    if (a.gt2.empty()) throw std::invalid_argument("--against needs --gt2");
+    db = load_signature_set(a.against, method);
+    attach_positions(db, a.gt2, a.gt_format);
+  }
+  if (queries.places.empty() || db.places.empty()) {
+    throw std::invalid_argument("nothing to evaluate: no signatures in " +
+                                (queries.places.empty() ? a.signatures : a.against));
+  }
+
+  eval::PlaceEvaluationOptions options;
+  options.method = method;
+  options.fusion = fusion;
+  options.protocol = cross ? eval::cross_session_protocol() : eval::same_session_protocol();
+  if (a.threshold_m > 0) options.protocol.threshold_m = a.threshold_m;
+  if (a.mask >= 0) options.protocol.mask_width = a.mask;
+  // Reference mode: double precision and the Matlab quirks, to match the authors' numbers.
+  options.precision = mode == Mode::Reference ? Precision::Double : Precision::Float;
+  options.reference_quirks = mode == Mode::Reference;
+  const eval::PlaceEvaluation ev =
+      eval::evaluate_places(queries.places, db.places, queries.positions, db.positions, options);
+
+  const nlohmann::json metrics = {
+      {"method", method_name(method)},
+      {"fusion", method == Method::Delight ? "intensity-only" : fusion_name(fusion)},
+      {"mode", mode_name(mode)},
+      {"protocol", {{"threshold_m", options.protocol.threshold_m},
+                    {"mask_width", options.protocol.mask_width},
+                    {"cross_session", cross}}},
+      {"auc", ev.pr.auc},
+      {"recall_at_100_precision", ev.pr.recall_at_100_precision},
+      {"f1_max", ev.pr.f1_max},
+      {"n_queries", ev.pr.n_queries},
+      {"n_database", db.places.size()},
+      {"n_gt_loops", ev.pr.n_gt_loops},
+      {"query_ms", ev.query_ms}};
+  const std::string title = method_name(method) + " (" + metrics["fusion"].get<std::string>() + ")";
+  write_outputs(a.out, queries, db, ev, metrics, title);
+  std::printf("%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, "
+              "%.3f ms per query -> %s\n",
+              title.c_str(), ev.pr.auc, ev.pr.recall_at_100_precision, ev.pr.f1_max,
+              ev.pr.n_gt_loops, ev.pr.n_queries, ev.query_ms, a.out.c_str());
+}
+
+}  // namespace
+
+void add_evaluate_command(CLI::App& app) {
+  auto args = std::make_shared<EvaluateArgs>();
+  CLI::App* cmd = app.add_subcommand("evaluate", "Match places and compute PR, AUC, recall, F1");
+  cmd->add_option("--method", args->method, "sc | m2dp | delight")->required();
+  cmd->add_option("--signatures", args->signatures, "describe output dir or signature file")
+      ->required();
+  cmd->add_option("--ids", args->ids, "incoming_id_file.txt (when --signatures is a file)");
+  cmd->add_option("--gt", args->gt, "ground truth: KITTI poses or RobotCar GPS")->required();
+  cmd->add_option("--gt-format", args->gt_format, "kitti | robotcar")->capture_default_str();
+  cmd->add_option("--against", args->against, "database session (cross-session evaluation)");
+  cmd->add_option("--gt2", args->gt2, "ground truth of the --against session");
+  cmd->add_option("--fusion", args->fusion, "fused | structure | intensity")
+      ->capture_default_str();
+  cmd->add_option("--mode", args->mode, "reference (double, Matlab quirks) | default")
+      ->capture_default_str();
+  cmd->add_option("--threshold", args->threshold_m, "loop distance in m (10 same / 25 cross)");
+  cmd->add_option("--mask", args->mask, "excluded index band |i-j| < mask (100 same / 0 cross)");
+  cmd->add_option("--out", args->out, "output directory")->required();
+  cmd->callback([args] { run_evaluate(*args); });
+}
+
+}  // namespace loopscan::cli

@@ -1,0 +1,31 @@
+// loopscan: place recognition for stereo visual odometry with LiDAR-style descriptors.
+#include <cstdio>
+#include <stdexcept>
+
+#include "commands.hpp"
+#include "loopscan/io/errors.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"loopscan: fast, robust place recognition for stereo visual odometry"};
+  app.require_subcommand(1);
+  loopscan::cli::add_describe_command(app);
+  loopscan::cli::add_evaluate_command(app);
+  loopscan::cli::add_pairs_command(app);
+  loopscan::cli::add_demo_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  } catch (const loopscan::io::InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

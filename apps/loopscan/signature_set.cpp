@@ -1,0 +1,52 @@
+#include "signature_set.hpp"
+
+#include <filesystem>
+
+#include "loopscan/io/errors.hpp"
+#include "loopscan/io/ground_truth_files.hpp"
+#include "loopscan/io/incoming_ids.hpp"
+#include "loopscan/io/matrix_text.hpp"
+
+namespace loopscan::cli {
+namespace fs = std::filesystem;
+
+SignatureSet load_signature_set(const std::string& path, Method method,
+                                const std::string& ids_path) {
+  std::string sig_file = path, id_file = ids_path;
+  if (fs::is_directory(path)) {
+    sig_file = path + "/signatures.txt";
+    if (!fs::exists(sig_file) && fs::exists(sig_file + ".gz")) sig_file += ".gz";
+    if (id_file.empty()) id_file = path + "/incoming_id_file.txt";
+  } else if (id_file.empty()) {
+    id_file = (fs::path(path).parent_path() / "incoming_id_file.txt").string();
+  }
+  SignatureSet set;
+  set.keyframe_ids = io::read_incoming_ids(id_file);
+  const Eigen::MatrixXd all = io::read_matrix_text(sig_file, signature_columns(method));
+  const int rows = rows_per_place(method);
+  if (all.rows() != static_cast<Eigen::Index>(set.keyframe_ids.size()) * rows) {
+    throw io::InputError(sig_file, 0,
+                         std::to_string(set.keyframe_ids.size() * rows) + " rows (" +
+                             std::to_string(rows) + " per id in " + id_file + "), found " +
+                             std::to_string(all.rows()));
+  }
+  for (std::size_t i = 0; i < set.keyframe_ids.size(); ++i) {
+    set.places.push_back(all.middleRows(static_cast<Eigen::Index>(i) * rows, rows));
+  }
+  return set;
+}
+
+void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format) {
+  const std::vector<Eigen::Vector3d> all = io::read_positions(gt_path, io::parse_gt_format(format));
+  set.positions.clear();
+  for (int id : set.keyframe_ids) {
+    if (id < 0 || static_cast<std::size_t>(id) >= all.size()) {
+      throw io::InputError(gt_path, 0,
+                           "a line for keyframe id " + std::to_string(id) + " (file has " +
+                               std::to_string(all.size()) + " lines)");
+    }
+    set.positions.push_back(all[id]);
+  }
+}
+
+}  // namespace loopscan::cli

@@ -1,0 +1,24 @@
+#pragma once
+// Loading a described sequence: signatures + keyframe ids (+ ground-truth positions).
+#include <string>
+#include <vector>
+
+#include "loopscan/core/signature.hpp"
+
+namespace loopscan::cli {
+
+struct SignatureSet {
+  std::vector<Signature> places;
+  std::vector<int> keyframe_ids;
+  std::vector<Eigen::Vector3d> positions;  // ground truth of each place
+};
+
+// `path` is a `describe` output directory (signatures.txt[.gz] + incoming_id_file.txt) or a
+// signature file (then `ids_path`, or incoming_id_file.txt next to it, gives the ids).
+SignatureSet load_signature_set(const std::string& path, Method method,
+                                const std::string& ids_path = "");
+
+// Positions of the places from a KITTI pose / RobotCar GPS file, indexed by keyframe id.
+void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format);
+
+}  // namespace loopscan::cli

@@ -1,0 +1,25 @@
+#include "loopscan/core/describe.hpp"
+
+#include "loopscan/core/delight.hpp"
+#include "loopscan/core/m2dp.hpp"
+#include "loopscan/core/scan_context.hpp"
+
+namespace loopscan {
+
+DescriptorConfig DescriptorConfig::for_mode(Mode mode, double range_m) {
+  DescriptorConfig c;
+  c.scan_context.mode = c.m2dp.mode = c.delight.mode = mode;
+  c.scan_context.max_radius_m = c.m2dp.max_radius_m = range_m;
+  return c;
+}
+
+Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config) {
+  switch (method) {
+    case Method::ScanContext: return scan_context_signature(scan, config.scan_context);
+    case Method::M2dp: return m2dp_signature(scan, config.m2dp);
+    case Method::Delight: return delight_signature(scan, config.delight);
+  }
+  return {};
+}
+
+}  // namespace loopscan

@@ -1,0 +1,19 @@
+#pragma once
+// One entry point for the three descriptors.
+#include "loopscan/core/config.hpp"
+#include "loopscan/core/signature.hpp"
+
+namespace loopscan {
+
+struct DescriptorConfig {
+  ScanContextConfig scan_context;
+  M2dpConfig m2dp;
+  DelightConfig delight;
+  // Sets the mode of every descriptor and the radius of SC / M2DP to the imitation range.
+  static DescriptorConfig for_mode(Mode mode, double range_m = 45.0);
+};
+
+// Signature of one imitated (filtered, camera-frame) scan.
+Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config);
+
+}  // namespace loopscan

@@ -1,0 +1,79 @@
+#include "loopscan/core/describe_sequence.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace loopscan {
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Eigen::Vector3d camera_center(const KeyframePose& k) {
+  const auto R = k.T_cam_world.leftCols<3>();
+  return -R.transpose() * k.T_cam_world.col(3);
+}
+
+}  // namespace
+
+SequenceOptions SequenceOptions::make(Method method, Mode mode, double range_m) {
+  SequenceOptions o;
+  o.method = method;
+  o.imitation.mode = mode;
+  o.imitation.range_m = range_m;
+  o.descriptors = DescriptorConfig::for_mode(mode, range_m);
+  return o;
+}
+
+SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
+                                     const std::vector<IdPoint>& points,
+                                     const SequenceOptions& options) {
+  SequenceSignatures out;
+  ScanImitator imitator(options.imitation);
+  const ScanFilter filter = filter_for(options.method);
+  std::vector<int> resets = options.reset_ids;
+  std::sort(resets.begin(), resets.end());
+  Cloud in_range;
+  std::size_t next_point = 0;
+  for (const KeyframePose& keyframe : poses) {
+    const std::size_t first = next_point;
+    while (next_point < points.size() && points[next_point].id <= keyframe.id) ++next_point;
+    const bool reset = std::binary_search(resets.begin(), resets.end(), keyframe.id);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!imitator.add_keyframe(keyframe, points.data() + first, next_point - first, reset,
+                               in_range)) {
+      continue;
+    }
+    const Cloud scan = filter_scan(in_range, filter, options.imitation);
+    out.imitate_ms += ms_since(t0);
+
+    const auto t1 = std::chrono::steady_clock::now();
+    out.signatures.push_back(describe(options.method, scan, options.descriptors));
+    out.describe_ms += ms_since(t1);
+    out.keyframe_ids.push_back(keyframe.id);
+    out.mean_in_range += static_cast<double>(in_range.size());
+    out.mean_filtered += static_cast<double>(scan.size());
+  }
+  if (const double n = static_cast<double>(out.signatures.size()); n > 0) {
+    out.imitate_ms /= n;
+    out.describe_ms /= n;
+    out.mean_in_range /= n;
+    out.mean_filtered /= n;
+  }
+  return out;
+}
+
+std::vector<int> detect_vo_resets(const std::vector<KeyframePose>& poses, double jump_m) {
+  std::vector<int> resets;
+  for (std::size_t i = 1; i < poses.size(); ++i) {
+    const Eigen::Vector3d c = camera_center(poses[i]);
+    if (c.norm() < 1.0 && (c - camera_center(poses[i - 1])).norm() > jump_m) {
+      resets.push_back(poses[i].id);
+    }
+  }
+  return resets;
+}
+
+}  // namespace loopscan

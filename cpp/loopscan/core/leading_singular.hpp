@@ -1,0 +1,21 @@
+#pragma once
+// First singular vector pair of a small dense matrix (the M2DP compression step).
+#include <Eigen/Core>
+
+#include "loopscan/core/types.hpp"
+
+namespace loopscan {
+
+struct SingularPair {
+  Eigen::VectorXd u;  // rows(A)
+  Eigen::VectorXd v;  // cols(A)
+  double sigma = 0.0;
+};
+
+// Reference mode: Eigen::JacobiSVD (thin U, V) exactly as the authors, the sign being whatever
+// the routine returns. Default mode: power iteration on A A^T (falls back to JacobiSVD if it
+// does not converge), with a canonical sign: sum(u) > 0 (first non-zero entry > 0 on a tie).
+// An all-zero matrix gives zero vectors in default mode.
+SingularPair leading_singular_pair(const Eigen::MatrixXd& a, Mode mode);
+
+}  // namespace loopscan

@@ -1,0 +1,15 @@
+#pragma once
+// PCA alignment shared by all descriptors (paper Sec. III-B): center on the centroid and
+// express points in the eigenvector basis ordered by ascending eigenvalue, so axis 0 (least
+// variance) is taken as "up" and axes 1, 2 span the horizontal plane.
+#include "loopscan/core/types.hpp"
+
+namespace loopscan {
+
+// Reference mode uses the authors' exact Eigen path (dynamic-size solver), so eigenvector
+// signs match theirs. Default mode uses the fixed-size solver and makes the basis
+// right-handed: the descriptors' sign "versions" (two-axis flips) then cover every pair.
+// An empty input gives an empty output.
+Cloud pca_align(const Cloud& cloud, Mode mode);
+
+}  // namespace loopscan

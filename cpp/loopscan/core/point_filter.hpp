@@ -1,0 +1,18 @@
+#pragma once
+// De-duplicating filters applied to the imitated scan (camera frame, points within range).
+#include "loopscan/core/types.hpp"
+
+namespace loopscan {
+
+// Cartesian voxel grid (origin (-r,-r,-r), voxel r/nx x r/ny x r/nz): keeps the HIGHEST point
+// (smallest y: y points down) of each voxel, the first one on ties.
+// Reference mode reproduces the authors' output order (libstdc++ unordered_map iteration);
+// default mode outputs voxels in order of first occurrence (deterministic, faster).
+Cloud cartesian_filter(const Cloud& in, double range_m, int divisions_xz, int divisions_y,
+                       Mode mode);
+
+// Polar cells of `resolution_deg` in azimuth atan2(z, x) and elevation atan2(y, hypot(x, z)):
+// keeps the point CLOSEST to the camera in each cell. Same ordering rule as above.
+Cloud polar_filter(const Cloud& in, double resolution_deg, Mode mode);
+
+}  // namespace loopscan

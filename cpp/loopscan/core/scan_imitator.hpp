@@ -1,0 +1,37 @@
+#pragma once
+// Imitates an omnidirectional LiDAR scan around each keyframe from the points a stereo VO
+// exported so far (paper Sec. III-A): a local map of world points, cropped to the range.
+#include <cstddef>
+#include <vector>
+
+#include "loopscan/core/config.hpp"
+
+namespace loopscan {
+
+class ScanImitator {
+ public:
+  explicit ScanImitator(const ImitationConfig& config = {});
+
+  // Processes one keyframe and the points exported with it (world frame). Returns true when
+  // the keyframe gets a scan; `in_range` then holds every local point within range, in the
+  // camera frame, unfiltered. `reset` is the VO's reset signal (ignored in reference mode,
+  // which detects resets itself as |t| < 1 m like the authors' code).
+  bool add_keyframe(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
+                    bool reset, Cloud& in_range);
+
+  // Forgets the local map; the next `init_frames` keyframes get no scan.
+  void reset();
+
+  std::size_t local_map_size() const { return local_.size(); }
+  const ImitationConfig& config() const { return config_; }
+
+ private:
+  ImitationConfig config_;
+  std::vector<PointI> local_;  // world frame
+  int frames_since_reset_ = 0;
+};
+
+// Applies the configured de-duplicating filter to an in-range cloud.
+Cloud filter_scan(const Cloud& in_range, ScanFilter filter, const ImitationConfig& config);
+
+}  // namespace loopscan

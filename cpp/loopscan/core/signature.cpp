@@ -1,0 +1,49 @@
+#include "loopscan/core/signature.hpp"
+
+#include <stdexcept>
+
+#include "loopscan/core/config.hpp"
+
+namespace loopscan {
+
+int rows_per_place(Method method) {
+  switch (method) {
+    case Method::ScanContext: return 1;
+    case Method::M2dp: return 4;
+    case Method::Delight: return 16;
+  }
+  return 1;
+}
+
+int signature_columns(Method method) {
+  switch (method) {
+    case Method::ScanContext: {
+      const ScanContextConfig c;
+      return 2 * c.rings * c.sectors;
+    }
+    case Method::M2dp: {
+      const M2dpConfig c;
+      return 2 * (c.plane_azimuths * c.plane_elevations + c.azimuth_bins * c.radial_bins);
+    }
+    case Method::Delight: return DelightConfig{}.intensity_bins;
+  }
+  return 0;
+}
+
+std::string method_name(Method method) {
+  switch (method) {
+    case Method::ScanContext: return "sc";
+    case Method::M2dp: return "m2dp";
+    case Method::Delight: return "delight";
+  }
+  return "?";
+}
+
+Method parse_method(const std::string& name) {
+  if (name == "sc") return Method::ScanContext;
+  if (name == "m2dp") return Method::M2dp;
+  if (name == "delight") return Method::Delight;
+  throw std::invalid_argument("unknown method '" + name + "' (expected sc, m2dp or delight)");
+}
+
+}  // namespace loopscan

@@ -1,0 +1,22 @@
+#pragma once
+// A place signature in the authors' text layout, one matrix per place:
+//   Scan Context: 1 x 2SR   [structure (S*R) | intensity (S*R)], index = sector * R + ring
+//   M2DP:         4 x 2(pq + ab)  one row per PCA sign version, [count u|v | intensity u|v]
+//   DELIGHT:      16 x bins   one row (gray histogram) per region
+#include <string>
+
+#include "loopscan/core/types.hpp"
+
+namespace loopscan {
+
+using Signature = Eigen::MatrixXd;
+
+// Rows each place occupies in a signature file, and their width, for the default parameters.
+int rows_per_place(Method method);
+int signature_columns(Method method);
+
+// "sc" | "m2dp" | "delight"; parse throws std::invalid_argument on anything else.
+std::string method_name(Method method);
+Method parse_method(const std::string& name);
+
+}  // namespace loopscan

@@ -1,0 +1,34 @@
+#pragma once
+// Plain value types shared by every loopscan module.
+#include <Eigen/Core>
+#include <vector>
+
+namespace loopscan {
+
+// Camera frame convention of the input (SO-DSO / KITTI): x right, y down, z forward.
+struct PointI {
+  Eigen::Vector3d p;
+  float intensity = 0.f;  // gray value 0..255; float as in the reference implementation
+};
+using Cloud = std::vector<PointI>;
+
+// One 3D point exported by the VO, in the VO world frame, tagged with its keyframe id.
+struct IdPoint {
+  int id = 0;
+  Eigen::Vector3d p_world = Eigen::Vector3d::Zero();
+  float intensity = 0.f;
+};
+
+// One VO keyframe: id and world-to-camera transform (3x4, row-major in files).
+struct KeyframePose {
+  int id = 0;
+  Eigen::Matrix<double, 3, 4> T_cam_world = Eigen::Matrix<double, 3, 4>::Identity();
+};
+
+// `Reference` reproduces the authors' implementation including its defects;
+// `Default` fixes them (see README, "Reference vs default").
+enum class Mode { Reference, Default };
+
+enum class Method { ScanContext, M2dp, Delight };
+
+}  // namespace loopscan

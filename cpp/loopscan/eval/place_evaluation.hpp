@@ -1,0 +1,34 @@
+#pragma once
+// The paper's place-recognition evaluation end to end: difference-matrix rows from a fast
+// matcher, fusion, mask, per-query best match, PR curve and metrics.
+#include <vector>
+
+#include "loopscan/core/fusion.hpp"
+#include "loopscan/core/place_matcher.hpp"
+#include "loopscan/eval/precision_recall.hpp"
+#include "loopscan/eval/protocol.hpp"
+
+namespace loopscan::eval {
+
+struct PlaceEvaluationOptions {
+  Method method = Method::ScanContext;
+  Fusion fusion = Fusion::Fused;
+  double structure_weight = 2.0;  // w_s
+  Precision precision = Precision::Float;
+  Protocol protocol = same_session_protocol();
+  bool reference_quirks = false;
+};
+
+struct PlaceEvaluation {
+  std::vector<QueryMatch> matches;  // one per query
+  PrResult pr;
+  double query_ms = 0;  // mean time of one difference-matrix row (all components, fused)
+};
+
+PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
+                                const std::vector<Signature>& database,
+                                const std::vector<Eigen::Vector3d>& query_positions,
+                                const std::vector<Eigen::Vector3d>& database_positions,
+                                const PlaceEvaluationOptions& options);
+
+}  // namespace loopscan::eval

@@ -1,0 +1,25 @@
+#pragma once
+// Exception type for malformed or unreadable input files.
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+namespace loopscan::io {
+
+// Bad input: the message names the file, the 1-based line (0 = whole file) and what was
+// expected there, e.g. "poses.txt:12: expected keyframe ids in increasing order".
+class InputError : public std::runtime_error {
+ public:
+  InputError(const std::string& file, std::size_t line, const std::string& what_expected);
+
+  const std::string& file() const { return file_; }
+  std::size_t line() const { return line_; }
+  const std::string& what_expected() const { return what_expected_; }
+
+ private:
+  std::string file_;
+  std::size_t line_;
+  std::string what_expected_;
+};
+
+}  // namespace loopscan::io

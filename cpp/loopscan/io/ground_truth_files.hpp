@@ -1,0 +1,23 @@
+#pragma once
+// Readers for ground-truth trajectories (KITTI odometry poses, RobotCar positions).
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace loopscan::io {
+
+enum class GtFormat { Kitti, RobotCar };
+
+// "kitti" or "robotcar" (case-insensitive); anything else throws std::invalid_argument.
+GtFormat parse_gt_format(const std::string& name);
+
+// KITTI odometry ground truth: 12 finite numbers a line, the 3x4 camera-to-world pose row-major;
+// the 0-based line index is the frame id. Blank lines only at the end.
+std::vector<Eigen::Matrix<double, 3, 4>> read_kitti_poses(const std::string& path);
+
+// One position per frame id (0-based line index). Kitti: translation column of each pose;
+// RobotCar: `northing easting down`, 3 finite numbers a line, returned in that order.
+std::vector<Eigen::Vector3d> read_positions(const std::string& path, GtFormat format);
+
+}  // namespace loopscan::io
