@@ -1,0 +1,168 @@
+// Scan imitation: the filters against brute-force oracles, the fast angle binning against
+// std::atan2, and the local-map rules (range crop, INIT_FRAME, resets).
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/core/fast_angle.hpp"
+#include "loopscan/core/point_filter.hpp"
+#include "loopscan/core/scan_imitator.hpp"
+#include "test_support.hpp"
+
+namespace loopscan {
+namespace {
+
+std::set<std::tuple<double, double, double>> as_set(const Cloud& c) {
+  std::set<std::tuple<double, double, double>> s;
+  for (const PointI& q : c) s.insert({q.p.x(), q.p.y(), q.p.z()});
+  return s;
+}
+
+Cloud random_in_range(unsigned seed, int n, double range) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-range, range);
+  Cloud c;
+  while (static_cast<int>(c.size()) < n) {
+    const Eigen::Vector3d p(u(rng), u(rng) * 0.3, u(rng));
+    if (p.norm() < range) c.push_back({p, static_cast<float>(std::abs(u(rng)) * 5)});
+  }
+  return c;
+}
+
+TEST(Filters, CartesianKeepsHighestPointPerVoxelBothModes) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    const Cloud in = random_in_range(seed, 20000, 45.0);
+    std::map<std::tuple<int, int, int>, PointI> oracle;
+    for (const PointI& q : in) {
+      const std::tuple<int, int, int> key{int(std::floor((q.p.x() + 45) / 1.5)),
+                                          int(std::floor((q.p.y() + 45) / 0.75)),
+                                          int(std::floor((q.p.z() + 45) / 1.5))};
+      auto it = oracle.find(key);
+      if (it == oracle.end() || q.p.y() < it->second.p.y()) oracle[key] = q;
+    }
+    Cloud expected;
+    for (const auto& kv : oracle) expected.push_back(kv.second);
+    for (Mode mode : {Mode::Reference, Mode::Default}) {
+      const Cloud out = cartesian_filter(in, 45.0, 30, 60, mode);
+      EXPECT_EQ(out.size(), expected.size());
+      EXPECT_EQ(as_set(out), as_set(expected));
+    }
+  }
+}
+
+TEST(Filters, PolarKeepsClosestPointPerCellBothModes) {
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    const Cloud in = random_in_range(seed, 20000, 45.0);
+    std::map<std::pair<int, int>, PointI> oracle;
+    const double w = M_PI / 180.0;
+    for (const PointI& q : in) {
+      const double xz = std::hypot(q.p.x(), q.p.z());
+      const std::pair<int, int> key{int(std::floor((std::atan2(q.p.z(), q.p.x()) + M_PI) / w)),
+                                    int(std::floor((std::atan2(q.p.y(), xz) + M_PI / 2) / w))};
+      auto it = oracle.find(key);
+      if (it == oracle.end() || q.p.norm() < it->second.p.norm()) oracle[key] = q;
+    }
+    Cloud expected;
+    for (const auto& kv : oracle) expected.push_back(kv.second);
+    for (Mode mode : {Mode::Reference, Mode::Default}) {
+      EXPECT_EQ(as_set(polar_filter(in, 1.0, mode)), as_set(expected));
+    }
+  }
+}
+
+TEST(Filters, EmptyAndSinglePoint) {
+  for (Mode mode : {Mode::Reference, Mode::Default}) {
+    EXPECT_TRUE(cartesian_filter({}, 45.0, 30, 60, mode).empty());
+    EXPECT_TRUE(polar_filter({}, 1.0, mode).empty());
+    const Cloud one{{{1, 2, 3}, 9.f}};
+    EXPECT_EQ(cartesian_filter(one, 45.0, 30, 60, mode).size(), 1u);
+    EXPECT_EQ(polar_filter(one, 1.0, mode).size(), 1u);
+  }
+}
+
+TEST(FastAngle, BinMatchesExactAtan2IncludingBoundaries) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-50, 50);
+  const double inv = 180.0 / M_PI;
+  for (int i = 0; i < 200000; ++i) {
+    double y = u(rng), x = u(rng);
+    if (i % 10 == 0) {  // exactly on (or next to) a 1-degree ray
+      const double a = (std::floor(u(rng) * 3.6) + (i % 20 == 0 ? 0.0 : 1e-12)) / inv;
+      x = std::cos(a) * 10;
+      y = std::sin(a) * 10;
+    }
+    if (i % 1000 == 1) y = 0.0;
+    if (i % 1000 == 2) x = 0.0;
+    ASSERT_EQ(angle_bin(y, x, M_PI, inv), int(std::floor((std::atan2(y, x) + M_PI) * inv)))
+        << "y=" << y << " x=" << x;
+  }
+  EXPECT_NEAR(approx_atan2(1.0, -1.0), std::atan2(1.0, -1.0), 1e-10);
+}
+
+std::vector<IdPoint> points_at(int id, const Eigen::Vector3d& p, int n = 1) {
+  return std::vector<IdPoint>(n, IdPoint{id, p, 100.f});
+}
+
+TEST(ScanImitator, SkipsInitFramesCropsRangeAndResets) {
+  ImitationConfig cfg;
+  cfg.init_frames = 3;
+  ScanImitator im(cfg);
+  Cloud in;
+  KeyframePose kf;  // identity: camera at the origin
+  const auto near = points_at(0, {1, 0, 10}), far = points_at(0, {0, 0, 100});
+  EXPECT_FALSE(im.add_keyframe(kf, near.data(), 1, false, in));
+  EXPECT_FALSE(im.add_keyframe(kf, far.data(), 1, false, in));
+  EXPECT_FALSE(im.add_keyframe(kf, nullptr, 0, false, in));
+  ASSERT_TRUE(im.add_keyframe(kf, nullptr, 0, false, in));
+  ASSERT_EQ(in.size(), 1u);  // the far point is out of range ...
+  EXPECT_EQ(im.local_map_size(), 1u);  // ... and dropped for good
+  KeyframePose moved = kf;
+  moved.T_cam_world.col(3) = Eigen::Vector3d(0, 0, -60);  // camera at z = 60: near point far away
+  ASSERT_TRUE(im.add_keyframe(moved, nullptr, 0, false, in));
+  EXPECT_TRUE(in.empty());
+  EXPECT_EQ(im.local_map_size(), 0u);
+  EXPECT_FALSE(im.add_keyframe(kf, near.data(), 1, true, in));  // explicit reset
+}
+
+TEST(ScanImitator, ReferenceResetsNearOriginDefaultOnlyOnSignal) {
+  ImitationConfig cfg;
+  cfg.init_frames = 1;
+  KeyframePose origin, away;
+  away.T_cam_world.col(3) = Eigen::Vector3d(5, 0, 0);
+  Cloud in;
+  cfg.mode = Mode::Reference;
+  ScanImitator ref(cfg);
+  EXPECT_FALSE(ref.add_keyframe(away, nullptr, 0, false, in));
+  EXPECT_TRUE(ref.add_keyframe(away, nullptr, 0, false, in));
+  EXPECT_FALSE(ref.add_keyframe(origin, nullptr, 0, false, in));  // |t| < 1 m: reset
+  cfg.mode = Mode::Default;
+  ScanImitator def(cfg);
+  EXPECT_FALSE(def.add_keyframe(away, nullptr, 0, false, in));
+  EXPECT_TRUE(def.add_keyframe(away, nullptr, 0, false, in));
+  EXPECT_TRUE(def.add_keyframe(origin, nullptr, 0, false, in));  // passing the origin is fine
+}
+
+TEST(ScanImitator, DetectResetsNeedsJumpBackToOrigin) {
+  std::vector<KeyframePose> poses(4);
+  for (int i = 0; i < 4; ++i) poses[i].id = i;
+  poses[1].T_cam_world.col(3) = Eigen::Vector3d(0, 0, -20);  // drove 20 m
+  poses[2].T_cam_world.col(3) = Eigen::Vector3d(0, 0, -0.5);  // jumped back: reset
+  poses[3].T_cam_world.col(3) = Eigen::Vector3d(0, 0, -0.2);  // near origin, no jump
+  EXPECT_EQ(detect_vo_resets(poses), std::vector<int>{2});
+}
+
+TEST(DescribeSequence, FewerKeyframesThanInitFrameGivesNoSignature) {
+  std::vector<KeyframePose> poses(10);
+  for (int i = 0; i < 10; ++i) poses[i].id = i;
+  const auto pts = points_at(0, {1, 0, 10}, 50);
+  for (Mode mode : {Mode::Reference, Mode::Default}) {
+    const auto out = describe_sequence(poses, pts, SequenceOptions::make(Method::ScanContext, mode));
+    EXPECT_TRUE(out.signatures.empty());
+    EXPECT_TRUE(out.keyframe_ids.empty());
+  }
+}
+
+}  // namespace
+}  // namespace loopscan
