@@ -1,0 +1,161 @@
+// Milliseconds per keyframe for each stage of the method, and per query for the exact
+// difference-matrix row, on the k06-summer fixture (880 places). Single thread.
+//   build/bench/loopscan_bench [--benchmark_filter=...]
+// Each benchmark reports `per_item` = seconds per keyframe (or per query).
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "loopscan/core/describe.hpp"
+#include "loopscan/core/place_matcher.hpp"
+#include "loopscan/core/scan_imitator.hpp"
+#include "loopscan/io/incoming_ids.hpp"
+#include "loopscan/io/matrix_text.hpp"
+#include "loopscan/io/sodso.hpp"
+
+namespace loopscan {
+namespace {
+
+std::string fixture_dir() {
+  const char* env = std::getenv("LOOPSCAN_SHARED");
+  return std::string(env ? env : LOOPSCAN_SHARED_DIR) + "/fixtures/k06-summer";
+}
+
+struct Data {
+  std::vector<KeyframePose> poses;
+  std::vector<IdPoint> points;
+  std::vector<Cloud> in_range;  // every 8th described keyframe
+  std::vector<Cloud> cartesian, polar;
+};
+
+const Data& data() {
+  static const Data d = [] {
+    Data x;
+    x.poses = io::read_sodso_poses(fixture_dir() + "/poses_history_file.txt");
+    x.points = io::read_sodso_points(fixture_dir() + "/pts_history_file.txt.gz");
+    ScanImitator im;
+    Cloud in;
+    std::size_t next = 0;
+    int described = 0;
+    for (const KeyframePose& k : x.poses) {
+      const std::size_t first = next;
+      while (next < x.points.size() && x.points[next].id <= k.id) ++next;
+      if (im.add_keyframe(k, x.points.data() + first, next - first, false, in) &&
+          described++ % 8 == 0) {
+        x.in_range.push_back(in);
+        x.cartesian.push_back(filter_scan(in, ScanFilter::Cartesian, ImitationConfig{}));
+        x.polar.push_back(filter_scan(in, ScanFilter::Polar, ImitationConfig{}));
+      }
+    }
+    return x;
+  }();
+  return d;
+}
+
+void per_item(benchmark::State& state, std::size_t items_per_iteration) {
+  state.counters["per_item"] = benchmark::Counter(
+      static_cast<double>(items_per_iteration) * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+// Local-map update + range crop over the whole sequence.
+void BM_ImitateCrop(benchmark::State& state) {
+  const Data& d = data();
+  ImitationConfig cfg;
+  cfg.mode = static_cast<Mode>(state.range(0));
+  std::size_t scans = 0;
+  for (auto _ : state) {
+    ScanImitator im(cfg);
+    Cloud in;
+    std::size_t next = 0;
+    scans = 0;
+    for (const KeyframePose& k : d.poses) {
+      const std::size_t first = next;
+      while (next < d.points.size() && d.points[next].id <= k.id) ++next;
+      scans += im.add_keyframe(k, d.points.data() + first, next - first, false, in);
+      benchmark::DoNotOptimize(in.data());
+    }
+  }
+  per_item(state, scans);
+}
+
+void BM_Filter(benchmark::State& state) {
+  const Data& d = data();
+  ImitationConfig cfg;
+  cfg.mode = static_cast<Mode>(state.range(0));
+  const auto filter = static_cast<ScanFilter>(state.range(1));
+  for (auto _ : state) {
+    for (const Cloud& c : d.in_range) benchmark::DoNotOptimize(filter_scan(c, filter, cfg).data());
+  }
+  per_item(state, d.in_range.size());
+}
+
+void BM_Describe(benchmark::State& state) {
+  const Data& d = data();
+  const auto method = static_cast<Method>(state.range(0));
+  const auto mode = static_cast<Mode>(state.range(1));
+  const DescriptorConfig cfg = DescriptorConfig::for_mode(mode);
+  const std::vector<Cloud>& scans = method == Method::ScanContext ? d.cartesian : d.polar;
+  // Reference M2DP (8 Jacobi SVDs per keyframe) is slow: time a subset.
+  const std::size_t n = method == Method::M2dp && mode == Mode::Reference ? 8 : scans.size();
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) benchmark::DoNotOptimize(describe(method, scans[i], cfg).data());
+  }
+  per_item(state, n);
+}
+
+// One exact difference-matrix row (all components) against the 880 reference places.
+void BM_Query(benchmark::State& state) {
+  const auto method = static_cast<Method>(state.range(0));
+  const auto precision = static_cast<Precision>(state.range(1));
+  static std::vector<Signature> places[3];
+  std::vector<Signature>& sigs = places[state.range(0)];
+  if (sigs.empty()) {
+    const Eigen::MatrixXd all = io::read_matrix_text(
+        fixture_dir() + "/reference/signatures_" + method_name(method) + ".txt.gz");
+    const int rows = rows_per_place(method);
+    for (Eigen::Index i = 0; i + rows <= all.rows(); i += rows) sigs.push_back(all.middleRows(i, rows));
+  }
+  const auto matcher = make_matcher(method, precision);
+  for (const Signature& s : sigs) matcher->add(s);
+  Eigen::MatrixXd rows;
+  std::size_t q = 0;
+  for (auto _ : state) {
+    matcher->distances(sigs[q++ % sigs.size()], rows);
+    benchmark::DoNotOptimize(rows.data());
+  }
+  per_item(state, 1);
+  state.counters["places"] = static_cast<double>(sigs.size());
+}
+
+constexpr int kRef = static_cast<int>(Mode::Reference), kDef = static_cast<int>(Mode::Default);
+constexpr int kCart = static_cast<int>(ScanFilter::Cartesian), kPol = static_cast<int>(ScanFilter::Polar);
+constexpr int kSc = 0, kM2dp = 1, kDelight = 2;
+constexpr int kFloat = static_cast<int>(Precision::Float), kDouble = static_cast<int>(Precision::Double);
+
+BENCHMARK(BM_ImitateCrop)->ArgNames({"mode"})->Args({kRef})->Args({kDef})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_Filter)->ArgNames({"mode", "filter"})->Args({kRef, kCart})->Args({kDef, kCart})
+    ->Args({kRef, kPol})->Args({kDef, kPol})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Describe)->ArgNames({"method", "mode"})->Args({kSc, kRef})->Args({kSc, kDef})
+    ->Args({kM2dp, kRef})->Args({kM2dp, kDef})->Args({kDelight, kRef})->Args({kDelight, kDef})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Query)->ArgNames({"method", "double"})->Args({kSc, kFloat})->Args({kSc, kDouble})
+    ->Args({kM2dp, kFloat})->Args({kM2dp, kDouble})->Args({kDelight, kFloat})
+    ->Args({kDelight, kDouble})->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace loopscan
+
+int main(int argc, char** argv) {
+  if (!std::filesystem::exists(loopscan::fixture_dir() + "/poses_history_file.txt")) {
+    std::fprintf(stderr, "loopscan_bench: fixture not found at %s (set LOOPSCAN_SHARED)\n",
+                 loopscan::fixture_dir().c_str());
+    return 0;
+  }
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
