@@ -166,3 +166,33 @@ TEST(DescribeSequence, FewerKeyframesThanInitFrameGivesNoSignature) {
 
 }  // namespace
 }  // namespace loopscan
+
+namespace loopscan {
+namespace {
+
+TEST(FastAngle, TableBinnerMatchesExactFormulaForEveryUsedWidth) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-50, 50);
+  for (double width_deg : {1.0, 6.0, 22.5, 0.5, 7.0 /* not dividing 90: generic path */}) {
+    const double inv = 180.0 / (width_deg * M_PI);
+    for (double offset : {M_PI, M_PI / 2}) {
+      const AngleBinner binner(inv, offset);
+      for (int i = 0; i < 100000; ++i) {
+        double y = u(rng), x = u(rng);
+        if (i % 7 == 0) {  // on a bin boundary, or within a hair of it
+          const double a = std::floor(u(rng) / width_deg) * width_deg * M_PI / 180.0 +
+                           (i % 14 == 0 ? 0.0 : 1e-13 * (i % 3 - 1));
+          x = 10 * std::cos(a);
+          y = 10 * std::sin(a);
+        }
+        if (i % 500 == 1) y = (i % 1000 == 1) ? 0.0 : -0.0;
+        if (i % 500 == 2) x = 0.0;
+        const int exact = int(std::floor((std::atan2(y, x) + offset) * inv));
+        ASSERT_EQ(binner(y, x), exact) << "width " << width_deg << " y=" << y << " x=" << x;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace loopscan

@@ -51,29 +51,31 @@ inline int angle_bin(double y, double x, double offset, double inv_width) {
 
 namespace loopscan {
 
-// floor((atan2(y, x) + offset) * inv_width) for bin widths that divide 45 degrees and offsets
-// that are whole bins (the paper's 1-degree polar cells): octant symmetry, one division and a
-// lookup table over tan(angle) instead of an arctangent. Values within 1e-12 of a bin boundary
-// (and exact zeros) take the exact std::atan2 path, so the result always equals the formula.
+// floor((atan2(y, x) + offset) * inv_width) for bin widths that divide 90 degrees and offsets
+// that are whole bins (1-degree polar cells, 6-degree Scan Context sectors, 22.5-degree M2DP
+// sectors): quadrant/octant symmetry, one division and a lookup table over tan(angle) instead
+// of an arctangent. Values within 1e-12 of a bin boundary (and exact zeros) take the exact
+// std::atan2 path, so the result always equals the formula.
 class AngleBinner {
  public:
   AngleBinner(double inv_width, double offset) : inv_(inv_width), offset_(offset) {
-    const double per_octant = (M_PI / 4.0) * inv_width;
-    octant_bins_ = static_cast<int>(std::lround(per_octant));
+    const double per_quadrant = (M_PI / 2.0) * inv_width;
+    quadrant_bins_ = static_cast<int>(std::lround(per_quadrant));
     const double offset_bins = offset * inv_width;
     offset_bins_ = static_cast<int>(std::lround(offset_bins));
-    usable_ = std::abs(per_octant - octant_bins_) < 1e-9 && std::abs(offset_bins - offset_bins_) < 1e-9 &&
-              octant_bins_ >= 1 && octant_bins_ <= 1024;
+    usable_ = std::abs(per_quadrant - quadrant_bins_) < 1e-9 &&
+              std::abs(offset_bins - offset_bins_) < 1e-9 && quadrant_bins_ >= 1 &&
+              quadrant_bins_ <= 2048;
     if (!usable_) return;
-    const int K = octant_bins_;
-    tan_.resize(K + 2);
-    for (int k = 0; k <= K; ++k) tan_[k] = std::tan(k * (M_PI / 4.0) / K);
-    tan_[K] = 1.0;
-    tan_[K + 1] = 2.0;  // sentinel
+    // Boundaries below 45 degrees: tan(k w), then a sentinel above every t in [0, 1].
+    const int last = quadrant_bins_ / 2;
+    tan_.resize(last + 2);
+    for (int k = 0; k <= last; ++k) tan_[k] = std::tan(k * (M_PI / 2.0) / quadrant_bins_);
+    tan_[last + 1] = 2.0;
     lut_.resize(kLut + 1);
     int k = 0;
     for (int i = 0; i <= kLut; ++i) {
-      while (k + 1 <= K && tan_[k + 1] <= static_cast<double>(i) / kLut) ++k;
+      while (k + 1 <= last && tan_[k + 1] <= static_cast<double>(i) / kLut) ++k;
       lut_[i] = k;
     }
   }
@@ -84,15 +86,15 @@ class AngleBinner {
     const bool steep = ay > ax;
     const double mx = steep ? ay : ax, mn = steep ? ax : ay;
     if (!(mn > 0.0)) return exact(y, x);  // on an axis (a boundary) or NaN
-    const double t = mn / mx;
+    const double t = mn / mx;  // tan of the angle to the nearer axis, in [0, 1]
     int k = lut_[static_cast<int>(t * kLut)];
     k += t >= tan_[k + 1];
     if (t - tan_[k] < 1e-12 || tan_[k + 1] - t < 1e-12) return exact(y, x);
-    // Off every boundary: integer arithmetic over the quadrant/octant symmetries.
-    const int K = octant_bins_;
-    // Selects, not branches: the signs of x and y are unpredictable.
-    const int kb = steep ? 2 * K - k - 1 : k;     // bin of the first-quadrant angle
-    const int upper = x >= 0 ? kb : 4 * K - 1 - kb;  // bin of |angle| in [0, pi]
+    // Off every boundary: integer arithmetic over the symmetries, with selects, not branches
+    // (the signs of x and y are unpredictable).
+    const int Q = quadrant_bins_;
+    const int kb = steep ? Q - k - 1 : k;            // bin of the first-quadrant angle
+    const int upper = x >= 0 ? kb : 2 * Q - 1 - kb;  // bin of |angle| in [0, pi]
     return (y >= 0 ? upper : ~upper) + offset_bins_;  // floor(-v) = -floor(v) - 1 = ~floor(v)
   }
 
@@ -102,7 +104,7 @@ class AngleBinner {
   }
   static constexpr int kLut = 4096;
   double inv_, offset_;
-  int octant_bins_ = 0, offset_bins_ = 0;
+  int quadrant_bins_ = 0, offset_bins_ = 0;
   bool usable_ = false;
   std::vector<double> tan_;
   std::vector<int> lut_;

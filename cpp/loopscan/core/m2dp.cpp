@@ -5,6 +5,7 @@
 
 #include "loopscan/core/gray_mean.hpp"
 #include "loopscan/core/leading_singular.hpp"
+#include "loopscan/core/m2dp_bins.hpp"
 #include "loopscan/core/pca_align.hpp"
 
 namespace loopscan {
@@ -96,22 +97,52 @@ void m2dp_plane_axes(const M2dpConfig& c, Eigen::Matrix3Xd& x_axes, Eigen::Matri
 M2dpMatrices m2dp_matrices(const Cloud& aligned, const M2dpConfig& config) {
   Eigen::Matrix3Xd x_axes, y_axes;
   m2dp_plane_axes(config, x_axes, y_axes);
-  const PolarBinner binner(config);
   const Eigen::Index planes = x_axes.cols(), bins = config.azimuth_bins * config.radial_bins;
-  M2dpMatrices m{Eigen::MatrixXd::Zero(planes, bins), Eigen::MatrixXd::Zero(planes, bins)};
-  for (Eigen::Index k = 0; k < planes; ++k) {
-    const Eigen::Vector3d xa = x_axes.col(k), ya = y_axes.col(k);
-    for (const PointI& q : aligned) {
-      const int idx = binner.bin_of(xa.dot(q.p), ya.dot(q.p));
-      if (idx < 0) continue;
-      m.count(k, idx) += 1;
-      m.gray(k, idx) += q.intensity;
+  // Row-major accumulators (plane-major), copied into the Eigen matrices at the end.
+  std::vector<double> count(planes * bins, 0.0), gray(planes * bins, 0.0);
+  const M2dpBinner fast(config.azimuth_bins, config.radial_bins, config.max_radius_m);
+  if (config.mode == Mode::Default && fast.usable()) {
+    thread_local PlanarCloud soa;
+    thread_local std::vector<int> idx;
+    const std::size_t padded = (aligned.size() + 15) / 16 * 16;
+    soa.x.assign(padded, 1e30f);  // padding lands beyond the last ring
+    soa.y.assign(padded, 0.f);
+    soa.z.assign(padded, 0.f);
+    for (std::size_t i = 0; i < aligned.size(); ++i) {
+      soa.x[i] = static_cast<float>(aligned[i].p(0));
+      soa.y[i] = static_cast<float>(aligned[i].p(1));
+      soa.z[i] = static_cast<float>(aligned[i].p(2));
+    }
+    for (Eigen::Index k = 0; k < planes; ++k) {
+      fast.bin(soa, x_axes.col(k), y_axes.col(k), idx);
+      double* c = &count[k * bins];
+      double* g = &gray[k * bins];
+      for (std::size_t i = 0; i < aligned.size(); ++i) {
+        if (idx[i] < 0) continue;
+        c[idx[i]] += 1;
+        g[idx[i]] += aligned[i].intensity;
+      }
+    }
+  } else {
+    const PolarBinner binner(config);
+    for (Eigen::Index k = 0; k < planes; ++k) {
+      const Eigen::Vector3d xa = x_axes.col(k), ya = y_axes.col(k);
+      for (const PointI& q : aligned) {
+        const int i = binner.bin_of(xa.dot(q.p), ya.dot(q.p));
+        if (i < 0) continue;
+        count[k * bins + i] += 1;
+        gray[k * bins + i] += q.intensity;
+      }
     }
   }
+  M2dpMatrices m{Eigen::MatrixXd(planes, bins), Eigen::MatrixXd(planes, bins)};
   const double mean = cloud_gray_mean(aligned, config.mode);
-  for (Eigen::Index i = 0; i < m.gray.size(); ++i) {
-    const double c = m.count.data()[i];
-    if (c > 0) m.gray.data()[i] = m.gray.data()[i] / c > mean ? 1.0 : 0.0;
+  for (Eigen::Index k = 0; k < planes; ++k) {
+    for (Eigen::Index b = 0; b < bins; ++b) {
+      const double c = count[k * bins + b], g = gray[k * bins + b];
+      m.count(k, b) = c;
+      m.gray(k, b) = c > 0 ? (g / c > mean ? 1.0 : 0.0) : 0.0;
+    }
   }
   return m;
 }

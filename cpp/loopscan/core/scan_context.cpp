@@ -14,6 +14,7 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
   const bool reference = config.mode == Mode::Reference;
   const double sector_inv = sectors / (2.0 * M_PI);
   const double ring_inv = rings / config.max_radius_m;
+  const AngleBinner sector_of(sector_inv, M_PI);
   Eigen::VectorXd count = Eigen::VectorXd::Zero(bins), low = Eigen::VectorXd::Zero(bins);
   Eigen::VectorXd high = Eigen::VectorXd::Zero(bins), gray = Eigen::VectorXd::Zero(bins);
   for (const PointI& q : aligned) {
@@ -23,7 +24,7 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
       sector = static_cast<int>(std::floor((std::atan2(a2, a1) + M_PI) * sector_inv));
     } else {
       if (ring >= rings) continue;  // beyond max radius: dropped, not leaked
-      sector = angle_bin(a2, a1, M_PI, sector_inv) % sectors;  // +pi and -pi: same ray
+      sector = sector_of(a2, a1) % sectors;  // +pi and -pi: the same ray
     }
     const int idx = sector * rings + ring;
     if (idx >= bins) continue;

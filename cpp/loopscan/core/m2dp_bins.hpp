@@ -1,0 +1,33 @@
+#pragma once
+// Default-mode M2DP binning, vectorised: projects points on one plane and returns each point's
+// polar bin (ring * sectors + sector, -1 beyond the last ring) in single precision, several
+// points per instruction. The sector comes from comparisons against the boundary rays instead
+// of atan2; ties at exact boundaries may fall on either side, as any rounding could.
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace loopscan {
+
+struct PlanarCloud {  // structure of arrays, padded to whole SIMD vectors
+  std::vector<float> x, y, z;
+  std::size_t size = 0;
+};
+
+class M2dpBinner {
+ public:
+  M2dpBinner(int sectors, int rings, double max_radius_m);
+  // Sectors: a power of two, 4 to 32 (16 in the paper).
+  bool usable() const { return sectors_ == (1 << shift_) && sectors_ >= 4 && sectors_ <= 32; }
+  // bins[i] for every point of `cloud` projected on axes (x_axis, y_axis).
+  void bin(const PlanarCloud& cloud, const Eigen::Vector3d& x_axis, const Eigen::Vector3d& y_axis,
+           std::vector<int>& bins) const;
+
+ private:
+  int sectors_, rings_;
+  double max_radius_;
+  int shift_ = 0;  // log2(sectors)
+  std::vector<float> ray_cos_, ray_sin_;  // boundary rays inside a quadrant
+};
+
+}  // namespace loopscan
