@@ -7,18 +7,9 @@
 namespace loopscan {
 namespace {
 
-using Vec = simd::Lanes<float>::Vec;
-typedef int VecI __attribute__((vector_size(simd::kBytes)));
-constexpr int kLanes = simd::Lanes<float>::kCount;
-
-inline Vec load(const float* p) {
-  Vec v;
-  __builtin_memcpy(&v, p, sizeof v);
-  return v;
-}
-
 // Lane-wise select; comparisons of GCC vectors give -1 (true) / 0 masks.
-inline Vec select(VecI mask, Vec a, Vec b) {
+template <typename Vec, typename VecI>
+LOOPSCAN_INLINE Vec select(VecI mask, Vec a, Vec b) {
   return (Vec)((mask & (VecI)a) | (~mask & (VecI)b));  // vector casts reinterpret the bits
 }
 
@@ -37,12 +28,17 @@ M2dpBinner::M2dpBinner(int sectors, int rings, double max_radius_m)
 namespace {
 
 // The kernel, unrolled for a fixed number of boundary rays per quadrant.
-template <int kRays>
-void bin_kernel(const PlanarCloud& c, const float (&axes)[6], float ring_inv, int rings,
-                int sector_shift, const float* ray_cos, const float* ray_sin, int* bins) {
+template <int kRays, int W>
+LOOPSCAN_INLINE void bin_kernel(const PlanarCloud& c, const float (&axes)[6], float ring_inv,
+                                int rings, int sector_shift, const float* ray_cos,
+                                const float* ray_sin, int* bins) {
+  using Vec = typename simd::Vec<float, W>::type;
+  using VecI = typename simd::Vec<int, W>::type;
+  constexpr int kLanes = simd::Vec<float, W>::kLanes;
   constexpr int per_quadrant = kRays + 1;
   for (std::size_t i = 0; i < c.x.size(); i += kLanes) {
-    const Vec px = load(&c.x[i]), py = load(&c.y[i]), pz = load(&c.z[i]);
+    const Vec px = simd::load<Vec>(&c.x[i]), py = simd::load<Vec>(&c.y[i]),
+              pz = simd::load<Vec>(&c.z[i]);
     const Vec xp = axes[0] * px + axes[1] * py + axes[2] * pz;
     const Vec yp = axes[3] * px + axes[4] * py + axes[5] * pz;
     const Vec r2 = xp * xp + yp * yp;
@@ -61,8 +57,31 @@ void bin_kernel(const PlanarCloud& c, const float (&axes)[6], float ring_inv, in
     for (int j = 0; j < kRays; ++j) sector -= (v2 * ray_cos[j] >= u2 * ray_sin[j]);  // -1 masks
     const VecI valid = ring < rings;
     const VecI out = (valid & ((ring << sector_shift) + sector)) | ~valid;  // -1 beyond range
-    __builtin_memcpy(bins + i, &out, sizeof out);
+    simd::store(bins + i, out);
   }
+}
+
+template <int W>
+LOOPSCAN_INLINE void dispatch_rays(std::size_t rays, const PlanarCloud& c, const float (&axes)[6],
+                                   float ring_inv, int rings, int shift, const float* rc,
+                                   const float* rs, int* bins) {
+  switch (rays) {
+    case 1: return bin_kernel<1, W>(c, axes, ring_inv, rings, shift, rc, rs, bins);
+    case 3: return bin_kernel<3, W>(c, axes, ring_inv, rings, shift, rc, rs, bins);
+    case 7: return bin_kernel<7, W>(c, axes, ring_inv, rings, shift, rc, rs, bins);
+    default: return bin_kernel<0, W>(c, axes, ring_inv, rings, shift, rc, rs, bins);
+  }
+}
+
+void kernel_base(std::size_t rays, const PlanarCloud& c, const float (&axes)[6], float ring_inv,
+                 int rings, int shift, const float* rc, const float* rs, int* bins) {
+  dispatch_rays<16>(rays, c, axes, ring_inv, rings, shift, rc, rs, bins);
+}
+
+LOOPSCAN_AVX2 void kernel_avx2(std::size_t rays, const PlanarCloud& c, const float (&axes)[6],
+                               float ring_inv, int rings, int shift, const float* rc,
+                               const float* rs, int* bins) {
+  dispatch_rays<32>(rays, c, axes, ring_inv, rings, shift, rc, rs, bins);
 }
 
 }  // namespace
@@ -73,12 +92,9 @@ void M2dpBinner::bin(const PlanarCloud& c, const Eigen::Vector3d& xa, const Eige
   const float axes[6] = {float(xa(0)), float(xa(1)), float(xa(2)),
                          float(ya(0)), float(ya(1)), float(ya(2))};
   const float ring_inv = static_cast<float>(rings_ / max_radius_);
-  switch (ray_cos_.size()) {
-    case 1: bin_kernel<1>(c, axes, ring_inv, rings_, shift_, ray_cos_.data(), ray_sin_.data(), bins.data()); break;
-    case 3: bin_kernel<3>(c, axes, ring_inv, rings_, shift_, ray_cos_.data(), ray_sin_.data(), bins.data()); break;
-    case 7: bin_kernel<7>(c, axes, ring_inv, rings_, shift_, ray_cos_.data(), ray_sin_.data(), bins.data()); break;
-    default: bin_kernel<0>(c, axes, ring_inv, rings_, shift_, ray_cos_.data(), ray_sin_.data(), bins.data());
-  }
+  auto* kernel = simd::has_avx2() ? kernel_avx2 : kernel_base;
+  kernel(ray_cos_.size(), c, axes, ring_inv, rings_, shift_, ray_cos_.data(), ray_sin_.data(),
+         bins.data());
 }
 
 }  // namespace loopscan

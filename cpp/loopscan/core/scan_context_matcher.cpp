@@ -4,15 +4,26 @@
 #include <cmath>
 
 #include "loopscan/core/place_matcher.hpp"
-#include "loopscan/core/simd.hpp"
+#include "loopscan/core/scan_context_kernel.hpp"
 
 namespace loopscan {
 namespace {
 
 template <typename T>
+void kernel_base(const ScanContextKernelArgs& a, const T* qre, const T* qim, const T* block,
+                 T* best) {
+  scan_context_best_dot<T, 16>(a, qre, qim, block, best);
+}
+
+template <typename T>
+LOOPSCAN_AVX2 void kernel_avx2(const ScanContextKernelArgs& a, const T* qre, const T* qim,
+                               const T* block, T* best) {
+  scan_context_best_dot<T, 32>(a, qre, qim, block, best);
+}
+
+template <typename T>
 class ScanContextMatcher final : public PlaceMatcher {
-  using Vec = typename simd::Lanes<T>::Vec;
-  static constexpr int kLanes = simd::Lanes<T>::kCount;
+  static constexpr int kL = simd::kChunkLanes<T>;
 
  public:
   explicit ScanContextMatcher(const ScanContextConfig& c)
@@ -27,6 +38,7 @@ class ScanContextMatcher final : public PlaceMatcher {
         fwd_sin_[k * S + s] = -std::sin(a);
       }
     }
+    // c_m = sum_k w_k (Re P_k cos(2 pi k m / S) - Im P_k sin(...)) / S, w = 1 at k = 0, S/2.
     inv_cos_.resize((S / 2 + 1) * K);
     inv_sin_.resize((S / 2 + 1) * K);
     for (int m = 0; m <= S / 2; ++m) {
@@ -37,18 +49,21 @@ class ScanContextMatcher final : public PlaceMatcher {
         inv_sin_[m * K + k] = static_cast<T>(-w * std::sin(a) / S);
       }
     }
+    args_ = {rings_, bins_, sectors_, inv_cos_.data(), inv_sin_.data()};
+    kernel_ = simd::has_avx2() ? kernel_avx2<T> : kernel_base<T>;
   }
 
   void add(const Signature& place) override {
-    if (n_ % kLanes == 0) blocks_.resize(blocks_.size() + block_size(), Vec{});
+    if (n_ % kL == 0) blocks_.resize(blocks_.size() + block_size(), T(0));
+    T* block = &blocks_[(n_ / kL) * block_size()];
+    const int lane = static_cast<int>(n_ % kL);
     std::vector<T> re, im;
-    Vec* block = &blocks_[(n_ / kLanes) * block_size()];
-    const int lane = static_cast<int>(n_ % kLanes);
     for (int c = 0; c < 2; ++c) {
       spectrum(place, c, re, im);
+      T* part = block + static_cast<std::size_t>(c) * rings_ * bins_ * 2 * kL;
       for (int i = 0; i < rings_ * bins_; ++i) {
-        block[(c * rings_ * bins_ + i) * 2][lane] = re[i];
-        block[(c * rings_ * bins_ + i) * 2 + 1][lane] = im[i];
+        part[(2 * i) * kL + lane] = re[i];
+        part[(2 * i + 1) * kL + lane] = im[i];
       }
     }
     ++n_;
@@ -60,34 +75,40 @@ class ScanContextMatcher final : public PlaceMatcher {
   void distances(const Signature& query, Eigen::MatrixXd& rows) const override {
     rows.resize(2, static_cast<Eigen::Index>(n_));
     std::vector<T> qre, qim;
-    std::vector<Vec> acc(4 * bins_);
+    alignas(32) T best[kL];
     for (int c = 0; c < 2; ++c) {
       spectrum(query, c, qre, qim);
-      for (std::size_t b = 0; b * kLanes < n_; ++b) {
-        const Vec* block = &blocks_[b * block_size() + c * rings_ * bins_ * 2];
-        const Vec best = best_dot(qre.data(), qim.data(), block, acc.data());
-        for (int lane = 0; lane < kLanes && b * kLanes + lane < n_; ++lane) {
-          rows(c, static_cast<Eigen::Index>(b * kLanes + lane)) = (1.0 - double(best[lane])) / 2.0;
+      for (std::size_t b = 0; b * kL < n_; ++b) {
+        const T* part = &blocks_[b * block_size() + static_cast<std::size_t>(c) * rings_ * bins_ * 2 * kL];
+        kernel_(args_, qre.data(), qim.data(), part, best);
+        for (int lane = 0; lane < kL && b * kL + lane < n_; ++lane) {
+          rows(c, static_cast<Eigen::Index>(b * kL + lane)) = (1.0 - double(best[lane])) / 2.0;
         }
       }
     }
   }
 
  private:
-  std::size_t block_size() const { return static_cast<std::size_t>(2 * rings_ * bins_ * 2); }
+  std::size_t block_size() const { return static_cast<std::size_t>(2 * rings_ * bins_ * 2 * kL); }
 
-  // DFT along sectors of each ring of one L2-normalised half (zero half stays zero).
+  // DFT along sectors of each ring of one L2-normalised half (a zero half stays zero).
   void spectrum(const Signature& place, int c, std::vector<T>& re, std::vector<T>& im) const {
     const int R = rings_, S = sectors_, K = bins_;
-    const double* x = place.data() + static_cast<Eigen::Index>(c) * R * S * place.rows();
+    const Eigen::Index stride = place.rows();
+    const double* x = place.data() + static_cast<Eigen::Index>(c) * R * S * stride;
     double norm2 = 0;
-    for (int i = 0; i < R * S; ++i) norm2 += x[i * place.rows()] * x[i * place.rows()];
+    for (int i = 0; i < R * S; ++i) norm2 += x[i * stride] * x[i * stride];
     const double scale = norm2 > 0 ? 1.0 / std::sqrt(norm2) : 0.0;
     re.assign(R * K, T(0));
     im.assign(R * K, T(0));
     std::vector<double> ring(S);
     for (int r = 0; r < R; ++r) {
-      for (int s = 0; s < S; ++s) ring[s] = x[(s * R + r) * place.rows()] * scale;
+      bool any = false;
+      for (int s = 0; s < S; ++s) {
+        ring[s] = x[(s * R + r) * stride] * scale;
+        any = any || ring[s] != 0.0;
+      }
+      if (!any) continue;
       for (int k = 0; k < K; ++k) {
         double sr = 0, si = 0;
         for (int s = 0; s < S; ++s) {
@@ -100,50 +121,13 @@ class ScanContextMatcher final : public PlaceMatcher {
     }
   }
 
-  // Per lane: max over shifts of the correlation and of the convolution.
-  Vec best_dot(const T* qre, const T* qim, const Vec* block, Vec* acc) const {
-    const int R = rings_, K = bins_, S = sectors_;
-    Vec* X = acc;  // sum Qre Dre
-    Vec* Y = acc + K;  // sum Qim Dim
-    Vec* Z = acc + 2 * K;  // sum Qim Dre
-    Vec* W = acc + 3 * K;  // sum Qre Dim
-    for (int i = 0; i < 4 * K; ++i) acc[i] = Vec{};
-    for (int r = 0; r < R; ++r) {
-      const Vec* d = block + r * K * 2;
-      const T* qr = qre + r * K;
-      const T* qi = qim + r * K;
-      for (int k = 0; k < K; ++k) {
-        const Vec dre = d[2 * k], dim = d[2 * k + 1];
-        X[k] += qr[k] * dre;
-        Y[k] += qi[k] * dim;
-        Z[k] += qi[k] * dre;
-        W[k] += qr[k] * dim;
-      }
-    }
-    Vec best = Vec{} - T(2);
-    for (int m = 0; m <= S / 2; ++m) {
-      const T* ck = &inv_cos_[m * K];
-      const T* sk = &inv_sin_[m * K];
-      Vec a_corr{}, b_corr{}, a_conv{}, b_conv{};
-      for (int k = 0; k < K; ++k) {
-        a_corr += ck[k] * (X[k] + Y[k]);
-        b_corr += sk[k] * (Z[k] - W[k]);
-        a_conv += ck[k] * (X[k] - Y[k]);
-        b_conv += sk[k] * (Z[k] + W[k]);
-      }
-      const Vec corr = a_corr + (b_corr < 0 ? -b_corr : b_corr);
-      const Vec conv = a_conv + (b_conv < 0 ? -b_conv : b_conv);
-      best = best > corr ? best : corr;
-      best = best > conv ? best : conv;
-    }
-    return best;
-  }
-
   int rings_, sectors_, bins_;
   std::size_t n_ = 0;
   std::vector<double> fwd_cos_, fwd_sin_;
   std::vector<T> inv_cos_, inv_sin_;
-  std::vector<Vec> blocks_;  // per block of kLanes places: [component][ring][bin] {re, im}
+  ScanContextKernelArgs args_{};
+  void (*kernel_)(const ScanContextKernelArgs&, const T*, const T*, const T*, T*) = nullptr;
+  std::vector<T> blocks_;  // per block of kL places: [component][ring][bin] {re, im} chunks
 };
 
 }  // namespace

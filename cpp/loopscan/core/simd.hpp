@@ -1,21 +1,45 @@
 #pragma once
-// Portable SIMD lanes (GCC/Clang vector extensions) as wide as the target's registers: 32 bytes
-// when compiled for AVX, 16 (SSE2, the x86-64 baseline) otherwise. Hot loops work on several
-// database places or bins at once, one per lane.
-#include <type_traits>
+// Portable SIMD (GCC/Clang vector extensions) with run-time dispatch: hot kernels are written
+// once as templates over the vector width and instantiated for the x86-64 baseline (SSE2,
+// 16 bytes) and, called only when the CPU has them, for AVX2+FMA (32 bytes). Stored data uses
+// 32-byte chunks either way, so results do not depend on the CPU beyond rounding of FMA.
+#include <cstring>
 
 namespace loopscan::simd {
 
-#if defined(__AVX__)
-inline constexpr int kBytes = 32;
-#else
-inline constexpr int kBytes = 16;
-#endif
+inline constexpr int kChunkBytes = 32;  // storage granularity: 8 floats / 4 doubles
 
 template <typename T>
-struct Lanes {
-  typedef T Vec __attribute__((vector_size(kBytes)));
-  static constexpr int kCount = static_cast<int>(kBytes / sizeof(T));
+inline constexpr int kChunkLanes = static_cast<int>(kChunkBytes / sizeof(T));
+
+template <typename T, int Bytes>
+struct Vec {
+  typedef T type __attribute__((vector_size(Bytes)));
+  static constexpr int kLanes = static_cast<int>(Bytes / sizeof(T));
 };
 
+template <typename V>
+inline V load(const void* p) {
+  V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+
+template <typename V>
+inline void store(void* p, const V& v) {
+  std::memcpy(p, &v, sizeof v);
+}
+
+// True when the AVX2+FMA instantiations may run on this CPU.
+bool has_avx2();
+
 }  // namespace loopscan::simd
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define LOOPSCAN_AVX2 __attribute__((target("avx2,fma")))
+#define LOOPSCAN_HAVE_AVX2_CLONES 1
+#else
+#define LOOPSCAN_AVX2
+#define LOOPSCAN_HAVE_AVX2_CLONES 0
+#endif
+#define LOOPSCAN_INLINE inline __attribute__((always_inline))
