@@ -33,15 +33,21 @@ bool ScanImitator::add_keyframe(const KeyframePose& keyframe, const IdPoint* poi
   }
 
   // 4. Crop to the range around the camera; points out of range leave the map for good.
-  in_range.clear();
+  const Eigen::Matrix3d R = keyframe.T_cam_world.leftCols<3>();
+  const Eigen::Vector3d t = keyframe.T_cam_world.col(3);
+  const double range = config_.range_m, range2 = range * range;
+  in_range.resize(local_.size());
   std::size_t kept = 0;
-  for (const PointI& q : local_) {
-    const Eigen::Vector3d p_cam = keyframe.T_cam_world * q.p.homogeneous();
-    if (p_cam.norm() < config_.range_m) {
-      in_range.push_back({p_cam, q.intensity});
-      local_[kept++] = q;
-    }
+  for (std::size_t i = 0; i < local_.size(); ++i) {
+    const PointI q = local_[i];
+    const Eigen::Vector3d p_cam = R * q.p + t;
+    // Reference: the authors' norm() < r; default: the same test without the square root.
+    const bool inside = reference ? p_cam.norm() < range : p_cam.squaredNorm() < range2;
+    if (!inside) continue;
+    in_range[kept] = {p_cam, q.intensity};
+    local_[kept++] = q;
   }
+  in_range.resize(kept);
   local_.resize(kept);
   return true;
 }
