@@ -4,7 +4,6 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "loopscan/core/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
@@ -38,35 +37,12 @@ const Fixture& fixture() {
   return f;
 }
 
-// Reference-mode signatures of the whole fixture; M2DP's SVDs run on two threads.
+// Reference-mode signatures of the whole fixture (two threads: M2DP's Jacobi SVDs are slow).
 SequenceSignatures describe_fixture(Method method) {
   const Fixture& f = fixture();
   SequenceOptions options = SequenceOptions::make(method, Mode::Reference);
-  if (method != Method::M2dp) return describe_sequence(f.poses, f.points, options);
-  // Imitate sequentially (it is stateful), describe in parallel.
-  SequenceSignatures out;
-  ScanImitator imitator(options.imitation);
-  std::vector<Cloud> scans;
-  Cloud in_range;
-  std::size_t next = 0;
-  for (const KeyframePose& k : f.poses) {
-    const std::size_t first = next;
-    while (next < f.points.size() && f.points[next].id <= k.id) ++next;
-    if (imitator.add_keyframe(k, f.points.data() + first, next - first, false, in_range)) {
-      scans.push_back(filter_scan(in_range, ScanFilter::Polar, options.imitation));
-      out.keyframe_ids.push_back(k.id);
-    }
-  }
-  out.signatures.resize(scans.size());
-  auto work = [&](std::size_t begin) {
-    for (std::size_t i = begin; i < scans.size(); i += 2) {
-      out.signatures[i] = describe(method, scans[i], options.descriptors);
-    }
-  };
-  std::thread t(work, 1);
-  work(0);
-  t.join();
-  return out;
+  options.threads = 2;
+  return describe_sequence(f.poses, f.points, options);
 }
 
 void expect_signatures_match(Method method, const SequenceSignatures& ours) {

@@ -1,4 +1,5 @@
 // loopscan describe: SO-DSO poses + points -> signatures.txt, incoming_id_file.txt, timing.json
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -18,6 +19,7 @@ namespace {
 struct DescribeArgs {
   std::string method, poses, points, out, mode = "default", reset_ids;
   double range_m = 45.0;
+  int threads = 1;
 };
 
 Eigen::MatrixXd stack(const std::vector<Signature>& sigs, Method method) {
@@ -45,6 +47,7 @@ void run_describe(const DescribeArgs& a) {
   }
 
   SequenceOptions options = SequenceOptions::make(method, mode, a.range_m);
+  options.threads = std::max(1, a.threads);
   if (mode == Mode::Default) {
     options.reset_ids = a.reset_ids.empty() ? detect_vo_resets(poses)
                                             : io::read_incoming_ids(a.reset_ids);
@@ -70,6 +73,7 @@ void run_describe(const DescribeArgs& a) {
       {"reset_ids", options.reset_ids},
       {"imitate_ms", result.imitate_ms},
       {"describe_ms", result.describe_ms},
+      {"threads", options.threads},
       {"mean_points_in_range", result.mean_in_range},
       {"mean_points_filtered", result.mean_filtered},
       {"points_non_finite_skipped", stats.non_finite_skipped},
@@ -92,6 +96,8 @@ void add_describe_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--mode", args->mode, "reference | default")->capture_default_str();
   cmd->add_option("--range", args->range_m, "imitated LiDAR range in m")->capture_default_str();
+  cmd->add_option("--threads", args->threads, "threads describing scans (imitation is sequential)")
+      ->capture_default_str();
   cmd->add_option("--reset-ids", args->reset_ids,
                   "default mode: file of keyframe ids where the VO reset (else detected)");
   cmd->callback([args] { run_describe(*args); });

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <thread>
 
 namespace loopscan {
 namespace {
@@ -26,6 +27,31 @@ SequenceOptions SequenceOptions::make(Method method, Mode mode, double range_m) 
   return o;
 }
 
+namespace {
+
+// Describes scans[i] into out[i], on `threads` threads; returns the summed milliseconds.
+double describe_batch(const std::vector<Cloud>& scans, const SequenceOptions& options,
+                      std::vector<Signature>& out) {
+  const int threads = std::max(1, std::min<int>(options.threads, static_cast<int>(scans.size())));
+  std::vector<double> ms(threads, 0.0);
+  auto work = [&](int t) {
+    for (std::size_t i = t; i < scans.size(); i += threads) {
+      const auto t0 = std::chrono::steady_clock::now();
+      out[i] = describe(options.method, scans[i], options.descriptors);
+      ms[t] += ms_since(t0);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& th : pool) th.join();
+  double total = 0;
+  for (double m : ms) total += m;
+  return total;
+}
+
+}  // namespace
+
 SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
                                      const std::vector<IdPoint>& points,
                                      const SequenceOptions& options) {
@@ -35,6 +61,14 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
   std::vector<int> resets = options.reset_ids;
   std::sort(resets.begin(), resets.end());
   Cloud in_range;
+  std::vector<Cloud> batch;  // scans waiting for their description
+  const std::size_t batch_size = options.threads > 1 ? 16 * options.threads : 1;
+  auto flush = [&] {
+    std::vector<Signature> sigs(batch.size());
+    out.describe_ms += describe_batch(batch, options, sigs);
+    for (Signature& s : sigs) out.signatures.push_back(std::move(s));
+    batch.clear();
+  };
   std::size_t next_point = 0;
   for (const KeyframePose& keyframe : poses) {
     const std::size_t first = next_point;
@@ -46,16 +80,14 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
                                in_range)) {
       continue;
     }
-    const Cloud scan = filter_scan(in_range, filter, options.imitation);
+    batch.push_back(filter_scan(in_range, filter, options.imitation));
     out.imitate_ms += ms_since(t0);
-
-    const auto t1 = std::chrono::steady_clock::now();
-    out.signatures.push_back(describe(options.method, scan, options.descriptors));
-    out.describe_ms += ms_since(t1);
     out.keyframe_ids.push_back(keyframe.id);
     out.mean_in_range += static_cast<double>(in_range.size());
-    out.mean_filtered += static_cast<double>(scan.size());
+    out.mean_filtered += static_cast<double>(batch.back().size());
+    if (batch.size() >= batch_size) flush();
   }
+  flush();
   if (const double n = static_cast<double>(out.signatures.size()); n > 0) {
     out.imitate_ms /= n;
     out.describe_ms /= n;

@@ -14,6 +14,7 @@ struct SequenceOptions {
   ImitationConfig imitation;
   DescriptorConfig descriptors;
   std::vector<int> reset_ids;  // keyframes where the VO restarted (default mode only)
+  int threads = 1;  // imitation is sequential; descriptions of a batch of scans run in parallel
   // Consistent options for a mode and range (the paper: 45 m).
   static SequenceOptions make(Method method, Mode mode, double range_m = 45.0);
 };
@@ -22,7 +23,7 @@ struct SequenceSignatures {
   std::vector<int> keyframe_ids;  // one per signature
   std::vector<Signature> signatures;
   double imitate_ms = 0;   // mean per described keyframe: crop + filter
-  double describe_ms = 0;  // mean per described keyframe
+  double describe_ms = 0;  // mean per described keyframe (CPU time of one thread)
   double mean_in_range = 0, mean_filtered = 0;  // points per scan
 };
 
