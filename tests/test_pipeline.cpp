@@ -40,3 +40,26 @@ TEST(Pipeline, EveryMethodRecognisesRevisitsOfTheTinyScene) {
 
 }  // namespace
 }  // namespace loopscan
+
+namespace loopscan {
+namespace {
+
+TEST(Pipeline, ThreadsDoNotChangeSignatures) {
+  sim::TinySceneConfig cfg;
+  cfg.block_m = 60;
+  const sim::TinyScene scene = sim::make_tiny_scene(cfg);
+  for (Method method : {Method::ScanContext, Method::M2dp}) {
+    SequenceOptions one = SequenceOptions::make(method, Mode::Default), two = one;
+    two.threads = 2;
+    const SequenceSignatures a = describe_sequence(scene.poses, scene.points, one);
+    const SequenceSignatures b = describe_sequence(scene.poses, scene.points, two);
+    ASSERT_EQ(a.keyframe_ids, b.keyframe_ids);
+    ASSERT_EQ(a.signatures.size(), b.signatures.size());
+    for (std::size_t i = 0; i < a.signatures.size(); ++i) {
+      ASSERT_EQ(a.signatures[i], b.signatures[i]) << method_name(method) << " place " << i;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace loopscan
