@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "loopscan/core/camera_points.hpp"
 #include "loopscan/core/describe.hpp"
 #include "loopscan/core/place_matcher.hpp"
 #include "loopscan/core/scan_imitator.hpp"
@@ -81,6 +82,28 @@ void BM_ImitateCrop(benchmark::State& state) {
   per_item(state, scans);
 }
 
+// Default mode as `describe` runs it: crop to float SoA + vectorised filter, whole sequence.
+void BM_ImitateFast(benchmark::State& state) {
+  const Data& d = data();
+  const auto filter = static_cast<ScanFilter>(state.range(0));
+  std::size_t scans = 0;
+  for (auto _ : state) {
+    ScanImitator im;
+    CameraPoints in;
+    std::size_t next = 0;
+    scans = 0;
+    for (const KeyframePose& k : d.poses) {
+      const std::size_t first = next;
+      while (next < d.points.size() && d.points[next].id <= k.id) ++next;
+      if (im.add_keyframe(k, d.points.data() + first, next - first, false, in)) {
+        ++scans;
+        benchmark::DoNotOptimize(filter_camera_points(in, filter, ImitationConfig{}).data());
+      }
+    }
+  }
+  per_item(state, scans);
+}
+
 void BM_Filter(benchmark::State& state) {
   const Data& d = data();
   ImitationConfig cfg;
@@ -136,6 +159,8 @@ constexpr int kSc = 0, kM2dp = 1, kDelight = 2;
 constexpr int kFloat = static_cast<int>(Precision::Float), kDouble = static_cast<int>(Precision::Double);
 
 BENCHMARK(BM_ImitateCrop)->ArgNames({"mode"})->Args({kRef})->Args({kDef})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_ImitateFast)->ArgNames({"filter"})->Args({kCart})->Args({kPol})
+    ->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_Filter)->ArgNames({"mode", "filter"})->Args({kRef, kCart})->Args({kDef, kCart})
     ->Args({kRef, kPol})->Args({kDef, kPol})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Describe)->ArgNames({"method", "mode"})->Args({kSc, kRef})->Args({kSc, kDef})

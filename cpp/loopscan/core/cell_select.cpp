@@ -3,44 +3,39 @@
 namespace loopscan {
 namespace {
 
-// One stable counting-sort pass of `in` (point indices) by `bits` bits of the key at `shift`.
-void radix_pass(const std::vector<std::uint32_t>& keys, const std::vector<std::uint32_t>& in,
-                std::vector<std::uint32_t>& out, int shift, int bits,
-                std::vector<std::uint32_t>& count) {
-  const std::uint32_t mask = (1u << bits) - 1;
-  count.assign(static_cast<std::size_t>(mask) + 2, 0);
-  for (std::uint32_t i : in) ++count[((keys[i] >> shift) & mask) + 1];
-  for (std::size_t b = 1; b < count.size(); ++b) count[b] += count[b - 1];
-  out.resize(in.size());
-  for (std::uint32_t i : in) out[count[(keys[i] >> shift) & mask]++] = i;
-}
+struct Cell {
+  std::uint32_t stamp;  // generation of the last call that touched the cell
+  std::int32_t best;    // kept point index
+  double score;
+};
 
 }  // namespace
 
 void best_per_cell(const std::vector<std::uint32_t>& keys, const std::vector<double>& scores,
                    std::uint32_t max_key, std::vector<int>& kept) {
-  thread_local std::vector<std::uint32_t> a, b, count;
+  thread_local std::vector<Cell> cells;
+  thread_local std::vector<std::uint32_t> touched;
+  thread_local std::uint32_t generation = 0;
+  if (cells.size() < static_cast<std::size_t>(max_key) + 1) cells.resize(std::size_t(max_key) + 1, {0, 0, 0});
+  if (++generation == 0) {  // wrapped: forget every stamp
+    for (Cell& c : cells) c.stamp = 0;
+    generation = 1;
+  }
   const std::size_t n = keys.size();
-  int bits = 1;
-  while (bits < 32 && (max_key >> bits) != 0) ++bits;
-  const int low = (bits + 1) / 2, high = bits - low;
-  a.resize(n);
-  for (std::size_t i = 0; i < n; ++i) a[i] = static_cast<std::uint32_t>(i);
-  radix_pass(keys, a, b, 0, low, count);
-  if (high > 0) {
-    radix_pass(keys, b, a, low, high, count);
-  } else {
-    a.swap(b);
+  touched.resize(n);
+  std::size_t n_touched = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    Cell& c = cells[keys[i]];
+    const bool fresh = c.stamp != generation;
+    const bool better = fresh || scores[i] < c.score;
+    c.best = better ? static_cast<std::int32_t>(i) : c.best;
+    c.score = better ? scores[i] : c.score;
+    c.stamp = generation;
+    touched[n_touched] = keys[i];
+    n_touched += fresh;
   }
-  kept.clear();
-  for (std::size_t s = 0; s < n;) {
-    const std::uint32_t key = keys[a[s]];
-    std::uint32_t best = a[s];
-    for (++s; s < n && keys[a[s]] == key; ++s) {
-      best = scores[a[s]] < scores[best] ? a[s] : best;
-    }
-    kept.push_back(static_cast<int>(best));
-  }
+  kept.resize(n_touched);
+  for (std::size_t k = 0; k < n_touched; ++k) kept[k] = cells[touched[k]].best;
 }
 
 }  // namespace loopscan

@@ -1,7 +1,7 @@
 #pragma once
-// Keeps, per cell key, the index of the point with the smallest score (the first on ties),
-// output ordered by key. A stable two-pass radix sort and one scan: no hashing, no
-// unpredictable branches, which is what the default-mode filters need for ~16k points a scan.
+// Keeps, per cell key, the index of the point with the smallest score (the first on ties), with
+// cells in order of first occurrence. A dense per-cell table with generation stamps and
+// branch-free updates: no hashing, no sorting, no unpredictable branches.
 #include <cstdint>
 #include <vector>
 

@@ -60,7 +60,9 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
   const ScanFilter filter = filter_for(options.method);
   std::vector<int> resets = options.reset_ids;
   std::sort(resets.begin(), resets.end());
+  const bool reference = options.imitation.mode == Mode::Reference;
   Cloud in_range;
+  CameraPoints fast_in_range;
   std::vector<Cloud> batch;  // scans waiting for their description
   const std::size_t batch_size = options.threads > 1 ? 16 * options.threads : 1;
   auto flush = [&] {
@@ -75,15 +77,28 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
     while (next_point < points.size() && points[next_point].id <= keyframe.id) ++next_point;
     const bool reset = std::binary_search(resets.begin(), resets.end(), keyframe.id);
 
+    // Imitation: reference mode in double precision through the authors' filters; default
+    // mode through the single-precision vectorised path.
     const auto t0 = std::chrono::steady_clock::now();
-    if (!imitator.add_keyframe(keyframe, points.data() + first, next_point - first, reset,
-                               in_range)) {
-      continue;
+    std::size_t n_in_range = 0;
+    if (reference) {
+      if (!imitator.add_keyframe(keyframe, points.data() + first, next_point - first, reset,
+                                 in_range)) {
+        continue;
+      }
+      batch.push_back(filter_scan(in_range, filter, options.imitation));
+      n_in_range = in_range.size();
+    } else {
+      if (!imitator.add_keyframe(keyframe, points.data() + first, next_point - first, reset,
+                                 fast_in_range)) {
+        continue;
+      }
+      batch.push_back(filter_camera_points(fast_in_range, filter, options.imitation));
+      n_in_range = fast_in_range.size();
     }
-    batch.push_back(filter_scan(in_range, filter, options.imitation));
     out.imitate_ms += ms_since(t0);
     out.keyframe_ids.push_back(keyframe.id);
-    out.mean_in_range += static_cast<double>(in_range.size());
+    out.mean_in_range += static_cast<double>(n_in_range);
     out.mean_filtered += static_cast<double>(batch.back().size());
     if (batch.size() >= batch_size) flush();
   }

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "loopscan/core/camera_points.hpp"
 #include "loopscan/core/config.hpp"
 
 namespace loopscan {
@@ -19,15 +20,32 @@ class ScanImitator {
   bool add_keyframe(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
                     bool reset, Cloud& in_range);
 
+  // The same step with the in-range points in single-precision SoA layout, for
+  // filter_camera_points (the default-mode fast path).
+  bool add_keyframe(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
+                    bool reset, CameraPoints& in_range);
+
   // Forgets the local map; the next `init_frames` keyframes get no scan.
   void reset();
 
-  std::size_t local_map_size() const { return local_.size(); }
+  std::size_t local_map_size() const {
+    return config_.mode == Mode::Reference ? local_.size() : world_.size();
+  }
   const ImitationConfig& config() const { return config_; }
 
  private:
+  // Steps 1-3 of add_keyframe; true when the keyframe gets a scan.
+  bool accumulate(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
+                  bool reset);
+
   ImitationConfig config_;
-  std::vector<PointI> local_;  // world frame
+  // Step 4, crop: out-of-range points leave the map for good. Reference mode in double with
+  // the authors' arithmetic; default mode in float SoA.
+  void crop_reference(const KeyframePose& keyframe, Cloud& in_range);
+  void crop_fast(const KeyframePose& keyframe, CameraPoints& in_range);
+
+  std::vector<PointI> local_;  // reference mode: world frame, double (the authors' arithmetic)
+  CameraPoints world_;         // default mode: world frame, float SoA (4x less memory traffic)
   int frames_since_reset_ = 0;
 };
 
