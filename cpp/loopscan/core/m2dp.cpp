@@ -103,25 +103,19 @@ M2dpMatrices m2dp_matrices(const Cloud& aligned, const M2dpConfig& config) {
   const M2dpBinner fast(config.azimuth_bins, config.radial_bins, config.max_radius_m);
   if (config.mode == Mode::Default && fast.usable()) {
     thread_local PlanarCloud soa;
-    thread_local std::vector<int> idx;
     const std::size_t padded = (aligned.size() + 15) / 16 * 16;
     soa.x.assign(padded, 1e30f);  // padding lands beyond the last ring
     soa.y.assign(padded, 0.f);
     soa.z.assign(padded, 0.f);
+    soa.gray.assign(padded, 0.f);
     for (std::size_t i = 0; i < aligned.size(); ++i) {
       soa.x[i] = static_cast<float>(aligned[i].p(0));
       soa.y[i] = static_cast<float>(aligned[i].p(1));
       soa.z[i] = static_cast<float>(aligned[i].p(2));
+      soa.gray[i] = aligned[i].intensity;
     }
     for (Eigen::Index k = 0; k < planes; ++k) {
-      fast.bin(soa, x_axes.col(k), y_axes.col(k), idx);
-      double* c = &count[k * bins];
-      double* g = &gray[k * bins];
-      for (std::size_t i = 0; i < aligned.size(); ++i) {
-        if (idx[i] < 0) continue;
-        c[idx[i]] += 1;
-        g[idx[i]] += aligned[i].intensity;
-      }
+      fast.accumulate(soa, x_axes.col(k), y_axes.col(k), &count[k * bins], &gray[k * bins]);
     }
   } else {
     const PolarBinner binner(config);

@@ -31,7 +31,8 @@ namespace {
 template <int kRays, int W>
 LOOPSCAN_INLINE void bin_kernel(const PlanarCloud& c, const float (&axes)[6], float ring_inv,
                                 int rings, int sector_shift, const float* ray_cos,
-                                const float* ray_sin, int* bins) {
+                                const float* ray_sin, const float* gray, double* count_row,
+                                double* gray_row) {
   using Vec = typename simd::Vec<float, W>::type;
   using VecI = typename simd::Vec<int, W>::type;
   constexpr int kLanes = simd::Vec<float, W>::kLanes;
@@ -57,44 +58,51 @@ LOOPSCAN_INLINE void bin_kernel(const PlanarCloud& c, const float (&axes)[6], fl
     for (int j = 0; j < kRays; ++j) sector -= (v2 * ray_cos[j] >= u2 * ray_sin[j]);  // -1 masks
     const VecI valid = ring < rings;
     const VecI out = (valid & ((ring << sector_shift) + sector)) | ~valid;  // -1 beyond range
-    simd::store(bins + i, out);
+    // Scatter straight from the register: no round trip through a bin array.
+    for (int l = 0; l < kLanes; ++l) {
+      const int b = out[l];
+      if (b < 0) continue;
+      count_row[b] += 1.0;
+      gray_row[b] += gray[i + l];
+    }
   }
 }
 
 template <int W>
 LOOPSCAN_INLINE void dispatch_rays(std::size_t rays, const PlanarCloud& c, const float (&axes)[6],
                                    float ring_inv, int rings, int shift, const float* rc,
-                                   const float* rs, int* bins) {
+                                   const float* rs, const float* g, double* cr, double* gr) {
   switch (rays) {
-    case 1: return bin_kernel<1, W>(c, axes, ring_inv, rings, shift, rc, rs, bins);
-    case 3: return bin_kernel<3, W>(c, axes, ring_inv, rings, shift, rc, rs, bins);
-    case 7: return bin_kernel<7, W>(c, axes, ring_inv, rings, shift, rc, rs, bins);
-    default: return bin_kernel<0, W>(c, axes, ring_inv, rings, shift, rc, rs, bins);
+    case 1: return bin_kernel<1, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    case 3: return bin_kernel<3, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    case 7: return bin_kernel<7, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    default: return bin_kernel<0, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
   }
 }
 
 void kernel_base(std::size_t rays, const PlanarCloud& c, const float (&axes)[6], float ring_inv,
-                 int rings, int shift, const float* rc, const float* rs, int* bins) {
-  dispatch_rays<16>(rays, c, axes, ring_inv, rings, shift, rc, rs, bins);
+                 int rings, int shift, const float* rc, const float* rs, const float* g,
+                 double* cr, double* gr) {
+  dispatch_rays<16>(rays, c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
 }
 
 LOOPSCAN_AVX2 void kernel_avx2(std::size_t rays, const PlanarCloud& c, const float (&axes)[6],
                                float ring_inv, int rings, int shift, const float* rc,
-                               const float* rs, int* bins) {
-  dispatch_rays<32>(rays, c, axes, ring_inv, rings, shift, rc, rs, bins);
+                               const float* rs, const float* g, double* cr, double* gr) {
+  dispatch_rays<32>(rays, c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
 }
 
 }  // namespace
 
-void M2dpBinner::bin(const PlanarCloud& c, const Eigen::Vector3d& xa, const Eigen::Vector3d& ya,
-                     std::vector<int>& bins) const {
-  bins.resize(c.x.size());
+void M2dpBinner::accumulate(const PlanarCloud& c, const Eigen::Vector3d& xa,
+                            const Eigen::Vector3d& ya, double* count_row,
+                            double* gray_row) const {
   const float axes[6] = {float(xa(0)), float(xa(1)), float(xa(2)),
                          float(ya(0)), float(ya(1)), float(ya(2))};
   const float ring_inv = static_cast<float>(rings_ / max_radius_);
   auto* kernel = simd::has_avx2() ? kernel_avx2 : kernel_base;
   kernel(ray_cos_.size(), c, axes, ring_inv, rings_, shift_, ray_cos_.data(), ray_sin_.data(),
-         bins.data());
+         c.gray.data(), count_row, gray_row);
 }
 
 }  // namespace loopscan

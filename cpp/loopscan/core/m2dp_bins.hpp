@@ -1,7 +1,7 @@
 #pragma once
-// Default-mode M2DP binning, vectorised: projects points on one plane and returns each point's
-// polar bin (ring * sectors + sector, -1 beyond the last ring) in single precision, several
-// points per instruction. The sector comes from comparisons against the boundary rays instead
+// Default-mode M2DP binning, vectorised: projects points on one plane, finds each point's polar
+// bin (ring * sectors + sector; none beyond the last ring) in single precision, several points
+// per instruction, and adds it to the plane's count and gray-sum rows. The sector comes from comparisons against the boundary rays instead
 // of atan2; ties at exact boundaries may fall on either side, as any rounding could.
 #include <vector>
 
@@ -10,7 +10,7 @@
 namespace loopscan {
 
 struct PlanarCloud {  // structure of arrays, padded to whole SIMD vectors
-  std::vector<float> x, y, z;
+  std::vector<float> x, y, z, gray;
   std::size_t size = 0;
 };
 
@@ -19,9 +19,9 @@ class M2dpBinner {
   M2dpBinner(int sectors, int rings, double max_radius_m);
   // Sectors: a power of two, 4 to 32 (16 in the paper).
   bool usable() const { return sectors_ == (1 << shift_) && sectors_ >= 4 && sectors_ <= 32; }
-  // bins[i] for every point of `cloud` projected on axes (x_axis, y_axis).
-  void bin(const PlanarCloud& cloud, const Eigen::Vector3d& x_axis, const Eigen::Vector3d& y_axis,
-           std::vector<int>& bins) const;
+  // count_row[bin] += 1 and gray_row[bin] += gray for every point projected on the plane.
+  void accumulate(const PlanarCloud& cloud, const Eigen::Vector3d& x_axis,
+                  const Eigen::Vector3d& y_axis, double* count_row, double* gray_row) const;
 
  private:
   int sectors_, rings_;
