@@ -142,7 +142,8 @@ void BM_Query(benchmark::State& state) {
     for (Eigen::Index i = 0; i + rows <= all.rows(); i += rows) sigs.push_back(all.middleRows(i, rows));
   }
   const auto matcher = make_matcher(method, precision);
-  for (const Signature& s : sigs) matcher->add(s);
+  const std::size_t n = state.range(2) > 0 ? std::size_t(state.range(2)) : sigs.size();
+  for (std::size_t i = 0; i < n; ++i) matcher->add(sigs[i % sigs.size()]);
   Eigen::MatrixXd rows;
   std::size_t q = 0;
   for (auto _ : state) {
@@ -150,7 +151,7 @@ void BM_Query(benchmark::State& state) {
     benchmark::DoNotOptimize(rows.data());
   }
   per_item(state, 1);
-  state.counters["places"] = static_cast<double>(sigs.size());
+  state.counters["places"] = static_cast<double>(n);
 }
 
 constexpr int kRef = static_cast<int>(Mode::Reference), kDef = static_cast<int>(Mode::Default);
@@ -166,9 +167,11 @@ BENCHMARK(BM_Filter)->ArgNames({"mode", "filter"})->Args({kRef, kCart})->Args({k
 BENCHMARK(BM_Describe)->ArgNames({"method", "mode"})->Args({kSc, kRef})->Args({kSc, kDef})
     ->Args({kM2dp, kRef})->Args({kM2dp, kDef})->Args({kDelight, kRef})->Args({kDelight, kDef})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Query)->ArgNames({"method", "double"})->Args({kSc, kFloat})->Args({kSc, kDouble})
-    ->Args({kM2dp, kFloat})->Args({kM2dp, kDouble})->Args({kDelight, kFloat})
-    ->Args({kDelight, kDouble})->Unit(benchmark::kMillisecond);
+// places = 0: the 880 fixture places; otherwise that many (cycled), to see cache effects.
+BENCHMARK(BM_Query)->ArgNames({"method", "double", "places"})->Args({kSc, kFloat, 0})
+    ->Args({kSc, kDouble, 0})->Args({kM2dp, kFloat, 0})->Args({kM2dp, kDouble, 0})
+    ->Args({kDelight, kFloat, 0})->Args({kDelight, kDouble, 0})->Args({kSc, kFloat, 96})
+    ->Args({kM2dp, kFloat, 96})->Args({kDelight, kFloat, 96})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace loopscan
