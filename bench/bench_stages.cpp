@@ -124,7 +124,8 @@ void BM_Describe(benchmark::State& state) {
   // Reference M2DP (8 Jacobi SVDs per keyframe) is slow: time a subset.
   const std::size_t n = method == Method::M2dp && mode == Mode::Reference ? 8 : scans.size();
   for (auto _ : state) {
-    for (std::size_t i = 0; i < n; ++i) benchmark::DoNotOptimize(describe(method, scans[i], cfg).data());
+    for (std::size_t i = 0; i < n; ++i)
+      benchmark::DoNotOptimize(describe(method, scans[i], cfg).data());
   }
   per_item(state, n);
 }
@@ -136,10 +137,11 @@ void BM_Query(benchmark::State& state) {
   static std::vector<Signature> places[3];
   std::vector<Signature>& sigs = places[state.range(0)];
   if (sigs.empty()) {
-    const Eigen::MatrixXd all = io::read_matrix_text(
-        fixture_dir() + "/reference/signatures_" + method_name(method) + ".txt.gz");
+    const Eigen::MatrixXd all = io::read_matrix_text(fixture_dir() + "/reference/signatures_" +
+                                                     method_name(method) + ".txt.gz");
     const int rows = rows_per_place(method);
-    for (Eigen::Index i = 0; i + rows <= all.rows(); i += rows) sigs.push_back(all.middleRows(i, rows));
+    for (Eigen::Index i = 0; i + rows <= all.rows(); i += rows)
+      sigs.push_back(all.middleRows(i, rows));
   }
   const auto matcher = make_matcher(method, precision);
   const std::size_t n = state.range(2) > 0 ? std::size_t(state.range(2)) : sigs.size();
@@ -155,23 +157,53 @@ void BM_Query(benchmark::State& state) {
 }
 
 constexpr int kRef = static_cast<int>(Mode::Reference), kDef = static_cast<int>(Mode::Default);
-constexpr int kCart = static_cast<int>(ScanFilter::Cartesian), kPol = static_cast<int>(ScanFilter::Polar);
+constexpr int kCart = static_cast<int>(ScanFilter::Cartesian),
+              kPol = static_cast<int>(ScanFilter::Polar);
 constexpr int kSc = 0, kM2dp = 1, kDelight = 2;
-constexpr int kFloat = static_cast<int>(Precision::Float), kDouble = static_cast<int>(Precision::Double);
+constexpr int kFloat = static_cast<int>(Precision::Float),
+              kDouble = static_cast<int>(Precision::Double);
 
-BENCHMARK(BM_ImitateCrop)->ArgNames({"mode"})->Args({kRef})->Args({kDef})->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_ImitateFast)->ArgNames({"filter"})->Args({kCart})->Args({kPol})
-    ->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_Filter)->ArgNames({"mode", "filter"})->Args({kRef, kCart})->Args({kDef, kCart})
-    ->Args({kRef, kPol})->Args({kDef, kPol})->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Describe)->ArgNames({"method", "mode"})->Args({kSc, kRef})->Args({kSc, kDef})
-    ->Args({kM2dp, kRef})->Args({kM2dp, kDef})->Args({kDelight, kRef})->Args({kDelight, kDef})
+BENCHMARK(BM_ImitateCrop)
+    ->ArgNames({"mode"})
+    ->Args({kRef})
+    ->Args({kDef})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK(BM_ImitateFast)
+    ->ArgNames({"filter"})
+    ->Args({kCart})
+    ->Args({kPol})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+BENCHMARK(BM_Filter)
+    ->ArgNames({"mode", "filter"})
+    ->Args({kRef, kCart})
+    ->Args({kDef, kCart})
+    ->Args({kRef, kPol})
+    ->Args({kDef, kPol})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Describe)
+    ->ArgNames({"method", "mode"})
+    ->Args({kSc, kRef})
+    ->Args({kSc, kDef})
+    ->Args({kM2dp, kRef})
+    ->Args({kM2dp, kDef})
+    ->Args({kDelight, kRef})
+    ->Args({kDelight, kDef})
     ->Unit(benchmark::kMillisecond);
 // places = 0: the 880 fixture places; otherwise that many (cycled), to see cache effects.
-BENCHMARK(BM_Query)->ArgNames({"method", "double", "places"})->Args({kSc, kFloat, 0})
-    ->Args({kSc, kDouble, 0})->Args({kM2dp, kFloat, 0})->Args({kM2dp, kDouble, 0})
-    ->Args({kDelight, kFloat, 0})->Args({kDelight, kDouble, 0})->Args({kSc, kFloat, 96})
-    ->Args({kM2dp, kFloat, 96})->Args({kDelight, kFloat, 96})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Query)
+    ->ArgNames({"method", "double", "places"})
+    ->Args({kSc, kFloat, 0})
+    ->Args({kSc, kDouble, 0})
+    ->Args({kM2dp, kFloat, 0})
+    ->Args({kM2dp, kDouble, 0})
+    ->Args({kDelight, kFloat, 0})
+    ->Args({kDelight, kDouble, 0})
+    ->Args({kSc, kFloat, 96})
+    ->Args({kM2dp, kFloat, 96})
+    ->Args({kDelight, kFloat, 96})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace loopscan

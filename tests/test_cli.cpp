@@ -62,8 +62,9 @@ TEST(Cli, DescribeWritesTheContractFiles) {
   const fs::path d = temp_dir("describe");
   write_sequence(d, 40);
   for (const std::string method : {"sc", "m2dp", "delight"}) {
-    const CliResult r = run("describe --method " + method + " --poses " + (d / "poses.txt").string() +
-                      " --points " + (d / "pts.txt").string() + " --out " + (d / method).string());
+    const CliResult r =
+        run("describe --method " + method + " --poses " + (d / "poses.txt").string() +
+            " --points " + (d / "pts.txt").string() + " --out " + (d / method).string());
     ASSERT_EQ(r.code, 0) << r.output;
     std::ifstream ids(d / method / "incoming_id_file.txt");
     int n = 0, id;
@@ -86,14 +87,16 @@ TEST(Cli, MalformedLineNamesFileAndLineWithExitCode2) {
   const fs::path d = temp_dir("malformed");
   write_sequence(d, 40);
   write(d / "bad_pts.txt", "0 1 2 3 100\n0 1 2 oops 100\n");
-  const CliResult r = run("describe --method sc --poses " + (d / "poses.txt").string() + " --points " +
-                    (d / "bad_pts.txt").string() + " --out " + (d / "out").string());
+  const CliResult r =
+      run("describe --method sc --poses " + (d / "poses.txt").string() + " --points " +
+          (d / "bad_pts.txt").string() + " --out " + (d / "out").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("bad_pts.txt:2"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "out" / "signatures.txt"));
   write(d / "short_poses.txt", "0 1 0 0 0 0 1 0 0 0 0 1\n");  // 12 numbers, not 13
-  const CliResult r2 = run("describe --method sc --poses " + (d / "short_poses.txt").string() +
-                     " --points " + (d / "pts.txt").string() + " --out " + (d / "out").string());
+  const CliResult r2 =
+      run("describe --method sc --poses " + (d / "short_poses.txt").string() + " --points " +
+          (d / "pts.txt").string() + " --out " + (d / "out").string());
   EXPECT_EQ(r2.code, 2);
   EXPECT_NE(r2.output.find("short_poses.txt:1"), std::string::npos) << r2.output;
 }
@@ -122,8 +125,9 @@ TEST(Cli, NanSkippedAndIntensityClampedWithWarnings) {
   std::ifstream in(d / "pts.txt");
   std::string all((std::istreambuf_iterator<char>(in)), {});
   write(d / "pts2.txt", all + "39 nan 1 2 100\n39 1 1 2 300\n");
-  const CliResult r = run("describe --method sc --poses " + (d / "poses.txt").string() + " --points " +
-                    (d / "pts2.txt").string() + " --out " + (d / "o").string());
+  const CliResult r =
+      run("describe --method sc --poses " + (d / "poses.txt").string() + " --points " +
+          (d / "pts2.txt").string() + " --out " + (d / "o").string());
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("skipped 1 points"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("clamped 1 intensities"), std::string::npos) << r.output;
@@ -133,7 +137,7 @@ TEST(Cli, FewerKeyframesThanInitFrameIsAMessageNotACrash) {
   const fs::path d = temp_dir("few");
   write_sequence(d, 12);
   const CliResult r = run("describe --method delight --poses " + (d / "poses.txt").string() +
-                    " --points " + (d / "pts.txt").string() + " --out " + (d / "o").string());
+                          " --points " + (d / "pts.txt").string() + " --out " + (d / "o").string());
   EXPECT_EQ(r.code, 0);
   EXPECT_NE(r.output.find("no signatures"), std::string::npos) << r.output;
 }
@@ -142,14 +146,15 @@ TEST(Cli, EvaluateOnFixtureWritesMetricsCsvAndSvg) {
   LOOPSCAN_REQUIRE_FIXTURE();
   const fs::path d = temp_dir("evaluate");
   const std::string f = test::fixture_dir();
-  const CliResult r = run("evaluate --method sc --signatures " + f + "/reference/signatures_sc.txt.gz" +
-                    " --ids " + f + "/reference/incoming_id_file.txt --gt " + f +
-                    "/gt.txt --gt-format kitti --mode reference --out " + d.string());
+  const CliResult r =
+      run("evaluate --method sc --signatures " + f + "/reference/signatures_sc.txt.gz" + " --ids " +
+          f + "/reference/incoming_id_file.txt --gt " + f +
+          "/gt.txt --gt-format kitti --mode reference --out " + d.string());
   ASSERT_EQ(r.code, 0) << r.output;
   nlohmann::json m;
   std::ifstream(d / "metrics.json") >> m;
-  for (const char* key : {"auc", "recall_at_100_precision", "f1_max", "n_queries", "n_gt_loops",
-                          "query_ms"}) {
+  for (const char* key :
+       {"auc", "recall_at_100_precision", "f1_max", "n_queries", "n_gt_loops", "query_ms"}) {
     EXPECT_TRUE(m.contains(key)) << key;
   }
   nlohmann::json ref;

@@ -30,7 +30,8 @@ const Fixture& fixture() {
     Fixture x{io::read_sodso_poses(d + "/poses_history_file.txt"),
               io::read_sodso_points(d + "/pts_history_file.txt.gz"),
               io::read_positions(d + "/gt.txt", io::GtFormat::Kitti),
-              io::read_incoming_ids(d + "/reference/incoming_id_file.txt"), {}};
+              io::read_incoming_ids(d + "/reference/incoming_id_file.txt"),
+              {}};
     std::ifstream(d + "/reference/metrics.json") >> x.metrics;
     return x;
   }();
@@ -48,8 +49,7 @@ SequenceSignatures describe_fixture(Method method) {
 void expect_signatures_match(Method method, const SequenceSignatures& ours) {
   const Fixture& f = fixture();
   ASSERT_EQ(ours.keyframe_ids, f.ids);
-  const Eigen::MatrixXd ref = io::read_matrix_text(test::fixture_dir() +
-                                                   "/reference/signatures_" +
+  const Eigen::MatrixXd ref = io::read_matrix_text(test::fixture_dir() + "/reference/signatures_" +
                                                    method_name(method) + ".txt.gz");
   const int rows = rows_per_place(method);
   ASSERT_EQ(ref.rows(), static_cast<Eigen::Index>(ours.signatures.size()) * rows);
@@ -77,7 +77,8 @@ void expect_metrics_match(Method method, const std::vector<Signature>& sigs, Fus
   o.reference_quirks = true;
   const eval::PlaceEvaluation ev = eval::evaluate_places(sigs, sigs, pos, pos, o);
   const auto& m = f.metrics[method_name(method)][fusion_name(fusion)];
-  EXPECT_NEAR(ev.pr.auc, m["auc"].get<double>(), 1e-4) << method_name(method) << " " << fusion_name(fusion);
+  EXPECT_NEAR(ev.pr.auc, m["auc"].get<double>(), 1e-4)
+      << method_name(method) << " " << fusion_name(fusion);
   EXPECT_NEAR(ev.pr.recall_at_100_precision, m["recall_at_100_precision"].get<double>(), 1e-4);
   EXPECT_EQ(ev.pr.n_gt_loops, m["n_gt_loops"].get<int>());
 }

@@ -39,8 +39,9 @@ TEST(ScanContext, RotationAboutUpAxisShiftsSectors) {
     const int sector = rng() % 60, ring = rng() % 20;
     const double angle = -M_PI + (sector + 0.5) * 2 * M_PI / 60;
     const double radius = (ring + 0.5) * 45.0 / 20;
-    aligned.push_back({{double(rng() % 100) / 10.0, radius * std::cos(angle),
-                        radius * std::sin(angle)}, float(rng() % 256)});
+    aligned.push_back(
+        {{double(rng() % 100) / 10.0, radius * std::cos(angle), radius * std::sin(angle)},
+         float(rng() % 256)});
   }
   const ScanContext base = scan_context_of_aligned(aligned, cfg);
   for (int k : {1, 7, 30, 59}) {
@@ -77,8 +78,8 @@ TEST(Descriptors, EmptyTinyAndDegenerateCloudsAreFinite) {
   const std::vector<Cloud> clouds = {
       {},
       {{{1, 2, 3}, 10.f}},
-      {{{1, 2, 3}, 10.f}, {{1, 2, 3}, 20.f}},                              // duplicates
-      {{{0, 0, 1}, 10.f}, {{0, 0, 2}, 20.f}, {{0, 0, 3}, 30.f}},          // collinear
+      {{{1, 2, 3}, 10.f}, {{1, 2, 3}, 20.f}},                                         // duplicates
+      {{{0, 0, 1}, 10.f}, {{0, 0, 2}, 20.f}, {{0, 0, 3}, 30.f}},                      // collinear
       {{{0, 0, 1}, 255.f}, {{1, 0, 1}, 0.f}, {{0, 1, 1}, 128.f}, {{1, 1, 1}, 3.f}}};  // planar
   for (const Cloud& c : clouds) {
     for (Method m : {Method::ScanContext, Method::M2dp, Method::Delight}) {
@@ -120,8 +121,8 @@ TEST(M2dp, CountsAddUpAndSingularPairMatchesJacobi) {
 TEST(M2dp, VersionsCoverThePcaSignAmbiguity) {
   // Default mode: right-handed PCA basis, so one of the 16 version pairs matches a moved copy.
   const Cloud c = test::street_cloud(4, 2000);
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.1, 1, 0.2).normalized())
-                                .toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.1, 1, 0.2).normalized()).toRotationMatrix();
   const Signature a = m2dp_signature(c, M2dpConfig{});
   const Signature b = m2dp_signature(test::transformed(c, R, {3, -1, 7}), M2dpConfig{});
   double best = 0;

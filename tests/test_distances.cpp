@@ -71,8 +71,9 @@ TEST(Matchers, AgreeWithPairOraclesAcrossSizes) {
       for (int n : {1, 3, 8, 17}) {
         std::vector<Signature> db;
         for (int i = 0; i < n; ++i) {
-          db.push_back(describe(m, test::street_cloud(100 + i, 1500),
-                                DescriptorConfig::for_mode(i % 2 ? Mode::Reference : Mode::Default)));
+          db.push_back(
+              describe(m, test::street_cloud(100 + i, 1500),
+                       DescriptorConfig::for_mode(i % 2 ? Mode::Reference : Mode::Default)));
         }
         const auto matcher = make_matcher(m, precision);
         for (const Signature& s : db) matcher->add(s);

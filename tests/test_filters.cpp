@@ -116,7 +116,7 @@ TEST(ScanImitator, SkipsInitFramesCropsRangeAndResets) {
   EXPECT_FALSE(im.add_keyframe(kf, far.data(), 1, false, in));
   EXPECT_FALSE(im.add_keyframe(kf, nullptr, 0, false, in));
   ASSERT_TRUE(im.add_keyframe(kf, nullptr, 0, false, in));
-  ASSERT_EQ(in.size(), 1u);  // the far point is out of range ...
+  ASSERT_EQ(in.size(), 1u);            // the far point is out of range ...
   EXPECT_EQ(im.local_map_size(), 1u);  // ... and dropped for good
   KeyframePose moved = kf;
   moved.T_cam_world.col(3) = Eigen::Vector3d(0, 0, -60);  // camera at z = 60: near point far away
@@ -147,7 +147,7 @@ TEST(ScanImitator, ReferenceResetsNearOriginDefaultOnlyOnSignal) {
 TEST(ScanImitator, DetectResetsNeedsJumpBackToOrigin) {
   std::vector<KeyframePose> poses(4);
   for (int i = 0; i < 4; ++i) poses[i].id = i;
-  poses[1].T_cam_world.col(3) = Eigen::Vector3d(0, 0, -20);  // drove 20 m
+  poses[1].T_cam_world.col(3) = Eigen::Vector3d(0, 0, -20);   // drove 20 m
   poses[2].T_cam_world.col(3) = Eigen::Vector3d(0, 0, -0.5);  // jumped back: reset
   poses[3].T_cam_world.col(3) = Eigen::Vector3d(0, 0, -0.2);  // near origin, no jump
   EXPECT_EQ(detect_vo_resets(poses), std::vector<int>{2});
@@ -158,7 +158,8 @@ TEST(DescribeSequence, FewerKeyframesThanInitFrameGivesNoSignature) {
   for (int i = 0; i < 10; ++i) poses[i].id = i;
   const auto pts = points_at(0, {1, 0, 10}, 50);
   for (Mode mode : {Mode::Reference, Mode::Default}) {
-    const auto out = describe_sequence(poses, pts, SequenceOptions::make(Method::ScanContext, mode));
+    const auto out =
+        describe_sequence(poses, pts, SequenceOptions::make(Method::ScanContext, mode));
     EXPECT_TRUE(out.signatures.empty());
     EXPECT_TRUE(out.keyframe_ids.empty());
   }
@@ -237,7 +238,8 @@ TEST(Filters, FloatSoaPathMatchesOracleOnRandomAndBoundaryPoints) {
           const float xz2 = x * x + z * z;
           const double inv = 180.0 / M_PI;
           key = long(std::floor((std::atan2(double(z), double(x)) + M_PI) * inv)) +
-                361 * long(std::floor((std::atan2(double(y), double(std::sqrt(xz2))) + M_PI / 2) * inv));
+                361 * long(std::floor((std::atan2(double(y), double(std::sqrt(xz2))) + M_PI / 2) *
+                                      inv));
           score = xz2 + y * y;
         }
         auto it = best.find(key);

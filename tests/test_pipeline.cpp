@@ -31,7 +31,8 @@ TEST(Pipeline, EveryMethodRecognisesRevisitsOfTheTinyScene) {
     for (int id : sigs.keyframe_ids) pos.push_back(scene.positions[id]);
     eval::PlaceEvaluationOptions o;
     o.method = method;
-    const eval::PlaceEvaluation ev = eval::evaluate_places(sigs.signatures, sigs.signatures, pos, pos, o);
+    const eval::PlaceEvaluation ev =
+        eval::evaluate_places(sigs.signatures, sigs.signatures, pos, pos, o);
     EXPECT_GT(ev.pr.n_gt_loops, 100);
     // The second lap revisits every place of the first: most must be recognised.
     EXPECT_GT(ev.pr.auc, 0.8) << method_name(method);

@@ -18,9 +18,9 @@ inline std::string shared_dir() {
 
 inline std::string fixture_dir() { return shared_dir() + "/fixtures/k06-summer"; }
 
-#define LOOPSCAN_REQUIRE_FIXTURE()                                                          \
+#define LOOPSCAN_REQUIRE_FIXTURE()                                                           \
   if (!std::filesystem::exists(::loopscan::test::fixture_dir() + "/poses_history_file.txt")) \
-  GTEST_SKIP() << "fixture not found at " << ::loopscan::test::fixture_dir()                \
+  GTEST_SKIP() << "fixture not found at " << ::loopscan::test::fixture_dir()                 \
                << " (set LOOPSCAN_SHARED to the shared/ folder)"
 
 // A street-like cloud in the camera frame (x right, y down, z forward): two facades, a ground

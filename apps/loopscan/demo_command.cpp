@@ -42,10 +42,13 @@ void run_demo(const DemoArgs& a) {
                 ev.pr.auc, ev.pr.recall_at_100_precision, ev.pr.f1_max, sigs.imitate_ms,
                 sigs.describe_ms, ev.query_ms);
     curves.push_back(report::pr_series(ev.pr.curve, method_name(method)));
-    table.push_back({{"method", method_name(method)}, {"auc", ev.pr.auc},
+    table.push_back({{"method", method_name(method)},
+                     {"auc", ev.pr.auc},
                      {"recall_at_100_precision", ev.pr.recall_at_100_precision},
-                     {"f1_max", ev.pr.f1_max}, {"n_gt_loops", ev.pr.n_gt_loops},
-                     {"imitate_ms", sigs.imitate_ms}, {"describe_ms", sigs.describe_ms},
+                     {"f1_max", ev.pr.f1_max},
+                     {"n_gt_loops", ev.pr.n_gt_loops},
+                     {"imitate_ms", sigs.imitate_ms},
+                     {"describe_ms", sigs.describe_ms},
                      {"query_ms", ev.query_ms}});
   }
   std::filesystem::create_directories(a.out);

@@ -49,8 +49,8 @@ void run_describe(const DescribeArgs& a) {
   SequenceOptions options = SequenceOptions::make(method, mode, a.range_m);
   options.threads = std::max(1, a.threads);
   if (mode == Mode::Default) {
-    options.reset_ids = a.reset_ids.empty() ? detect_vo_resets(poses)
-                                            : io::read_incoming_ids(a.reset_ids);
+    options.reset_ids =
+        a.reset_ids.empty() ? detect_vo_resets(poses) : io::read_incoming_ids(a.reset_ids);
   }
   const SequenceSignatures result = describe_sequence(poses, points, options);
   if (result.signatures.empty()) {
@@ -79,10 +79,11 @@ void run_describe(const DescribeArgs& a) {
       {"points_non_finite_skipped", stats.non_finite_skipped},
       {"points_intensity_clamped", stats.intensity_clamped}};
   io::write_file_atomic(a.out + "/timing.json", timing.dump(1) + "\n");
-  std::printf("%s (%s): %zu signatures from %zu keyframes; %.3f ms imitate + %.3f ms describe "
-              "per keyframe -> %s\n",
-              method_name(method).c_str(), mode_name(mode).c_str(), result.signatures.size(),
-              poses.size(), result.imitate_ms, result.describe_ms, a.out.c_str());
+  std::printf(
+      "%s (%s): %zu signatures from %zu keyframes; %.3f ms imitate + %.3f ms describe "
+      "per keyframe -> %s\n",
+      method_name(method).c_str(), mode_name(mode).c_str(), result.signatures.size(), poses.size(),
+      result.imitate_ms, result.describe_ms, a.out.c_str());
 }
 
 }  // namespace

@@ -17,7 +17,7 @@ namespace {
 
 struct EvaluateArgs {
   std::string method, signatures, ids, gt, gt_format = "kitti", against, gt2, fusion = "fused",
-                                      mode = "default", out;
+                                           mode = "default", out;
   double threshold_m = -1;
   int mask = -1;
 };
@@ -79,9 +79,10 @@ void run_evaluate(const EvaluateArgs& a) {
       {"method", method_name(method)},
       {"fusion", method == Method::Delight ? "intensity-only" : fusion_name(fusion)},
       {"mode", mode_name(mode)},
-      {"protocol", {{"threshold_m", options.protocol.threshold_m},
-                    {"mask_width", options.protocol.mask_width},
-                    {"cross_session", cross}}},
+      {"protocol",
+       {{"threshold_m", options.protocol.threshold_m},
+        {"mask_width", options.protocol.mask_width},
+        {"cross_session", cross}}},
       {"auc", ev.pr.auc},
       {"recall_at_100_precision", ev.pr.recall_at_100_precision},
       {"f1_max", ev.pr.f1_max},
@@ -91,10 +92,11 @@ void run_evaluate(const EvaluateArgs& a) {
       {"query_ms", ev.query_ms}};
   const std::string title = method_name(method) + " (" + metrics["fusion"].get<std::string>() + ")";
   write_outputs(a.out, queries, db, ev, metrics, title);
-  std::printf("%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, "
-              "%.3f ms per query -> %s\n",
-              title.c_str(), ev.pr.auc, ev.pr.recall_at_100_precision, ev.pr.f1_max,
-              ev.pr.n_gt_loops, ev.pr.n_queries, ev.query_ms, a.out.c_str());
+  std::printf(
+      "%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, "
+      "%.3f ms per query -> %s\n",
+      title.c_str(), ev.pr.auc, ev.pr.recall_at_100_precision, ev.pr.f1_max, ev.pr.n_gt_loops,
+      ev.pr.n_queries, ev.query_ms, a.out.c_str());
 }
 
 }  // namespace
@@ -110,8 +112,7 @@ void add_evaluate_command(CLI::App& app) {
   cmd->add_option("--gt-format", args->gt_format, "kitti | robotcar")->capture_default_str();
   cmd->add_option("--against", args->against, "database session (cross-session evaluation)");
   cmd->add_option("--gt2", args->gt2, "ground truth of the --against session");
-  cmd->add_option("--fusion", args->fusion, "fused | structure | intensity")
-      ->capture_default_str();
+  cmd->add_option("--fusion", args->fusion, "fused | structure | intensity")->capture_default_str();
   cmd->add_option("--mode", args->mode, "reference (double, Matlab quirks) | default")
       ->capture_default_str();
   cmd->add_option("--threshold", args->threshold_m, "loop distance in m (10 same / 25 cross)");

@@ -12,6 +12,8 @@ inline Mode parse_mode(const std::string& name) {
   throw std::invalid_argument("unknown mode '" + name + "' (expected reference or default)");
 }
 
-inline std::string mode_name(Mode mode) { return mode == Mode::Reference ? "reference" : "default"; }
+inline std::string mode_name(Mode mode) {
+  return mode == Mode::Reference ? "reference" : "default";
+}
 
 }  // namespace loopscan::cli

@@ -44,9 +44,8 @@ void run_pairs(const PairsArgs& a) {
   io::write_file_atomic(a.out + "/pr.csv", csv.str());
   io::write_file_atomic(a.out + "/pr.svg",
                         report::pr_curve_svg({report::pr_series(r.curve, "pairs")}, "pairs"));
-  std::printf("F1-max %.10f (threshold %.6g), AP %.6f, %zu positives / %zu pairs -> %s\n",
-              r.f1_max, r.best_threshold, r.average_precision, r.n_positive, r.n_total,
-              a.out.c_str());
+  std::printf("F1-max %.10f (threshold %.6g), AP %.6f, %zu positives / %zu pairs -> %s\n", r.f1_max,
+              r.best_threshold, r.average_precision, r.n_positive, r.n_total, a.out.c_str());
 }
 
 }  // namespace

@@ -35,7 +35,7 @@ struct KeyArgs {
   ScanFilter filter;
   float range, step_xz, step_y;  // Cartesian
   int nx, ny;
-  float inv;            // polar: bins per radian
+  float inv;  // polar: bins per radian
   int azimuth_bins;
   std::uint32_t* keys;
   double* scores;
@@ -102,8 +102,10 @@ Cloud filter_camera_points(const CameraPoints& p, ScanFilter filter, const Imita
   a.range = static_cast<float>(c.range_m);
   a.step_xz = static_cast<float>(1.0 / (c.range_m / c.voxel_divisions_xz));
   a.step_y = static_cast<float>(1.0 / (c.range_m / c.voxel_divisions_y));
-  a.nx = static_cast<int>(std::floor(2 * c.range_m * (1.0 / (c.range_m / c.voxel_divisions_xz))) + 1);
-  a.ny = static_cast<int>(std::floor(2 * c.range_m * (1.0 / (c.range_m / c.voxel_divisions_y))) + 1);
+  a.nx =
+      static_cast<int>(std::floor(2 * c.range_m * (1.0 / (c.range_m / c.voxel_divisions_xz))) + 1);
+  a.ny =
+      static_cast<int>(std::floor(2 * c.range_m * (1.0 / (c.range_m / c.voxel_divisions_y))) + 1);
   const double inv = 1.0 / (c.polar_resolution_deg / 180.0 * M_PI);
   a.inv = static_cast<float>(inv);
   a.azimuth_bins = static_cast<int>(std::floor(2 * M_PI * inv) + 1);

@@ -16,7 +16,8 @@ void best_per_cell(const std::vector<std::uint32_t>& keys, const std::vector<dou
   thread_local std::vector<Cell> cells;
   thread_local std::vector<std::uint32_t> touched;
   thread_local std::uint32_t generation = 0;
-  if (cells.size() < static_cast<std::size_t>(max_key) + 1) cells.resize(std::size_t(max_key) + 1, {0, 0, 0});
+  if (cells.size() < static_cast<std::size_t>(max_key) + 1)
+    cells.resize(std::size_t(max_key) + 1, {0, 0, 0});
   if (++generation == 0) {  // wrapped: forget every stamp
     for (Cell& c : cells) c.stamp = 0;
     generation = 1;

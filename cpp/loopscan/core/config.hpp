@@ -7,8 +7,8 @@ namespace loopscan {
 enum class ScanFilter { Cartesian, Polar };
 
 struct ImitationConfig {
-  double range_m = 45.0;   // imitated LiDAR range r
-  int init_frames = 30;    // keyframes skipped after a reset while points accumulate
+  double range_m = 45.0;        // imitated LiDAR range r
+  int init_frames = 30;         // keyframes skipped after a reset while points accumulate
   int voxel_divisions_xz = 30;  // Cartesian voxel = r/30 (x, z) ...
   int voxel_divisions_y = 60;   // ... and r/60 (y, the camera's down axis)
   double polar_resolution_deg = 1.0;
@@ -25,7 +25,7 @@ struct ScanContextConfig {
 struct M2dpConfig {
   int azimuth_bins = 16;  // per projection plane
   int radial_bins = 8;
-  int plane_azimuths = 4;    // p
+  int plane_azimuths = 4;     // p
   int plane_elevations = 16;  // q
   double max_radius_m = 45.0;
   Mode mode = Mode::Default;

@@ -207,9 +207,12 @@ std::unique_ptr<PlaceMatcher> make_delight_matcher(Precision precision) {
 std::unique_ptr<PlaceMatcher> make_matcher(Method method, Precision precision,
                                            const ScanContextConfig& sc) {
   switch (method) {
-    case Method::ScanContext: return make_scan_context_matcher(precision, sc);
-    case Method::M2dp: return make_m2dp_matcher(precision);
-    case Method::Delight: return make_delight_matcher(precision);
+    case Method::ScanContext:
+      return make_scan_context_matcher(precision, sc);
+    case Method::M2dp:
+      return make_m2dp_matcher(precision);
+    case Method::Delight:
+      return make_delight_matcher(precision);
   }
   return nullptr;
 }

@@ -15,9 +15,12 @@ DescriptorConfig DescriptorConfig::for_mode(Mode mode, double range_m) {
 
 Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config) {
   switch (method) {
-    case Method::ScanContext: return scan_context_signature(scan, config.scan_context);
-    case Method::M2dp: return m2dp_signature(scan, config.m2dp);
-    case Method::Delight: return delight_signature(scan, config.delight);
+    case Method::ScanContext:
+      return scan_context_signature(scan, config.scan_context);
+    case Method::M2dp:
+      return m2dp_signature(scan, config.m2dp);
+    case Method::Delight:
+      return delight_signature(scan, config.delight);
   }
   return {};
 }

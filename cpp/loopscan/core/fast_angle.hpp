@@ -86,15 +86,15 @@ class AngleBinner {
     const bool steep = ay > ax;
     const double mx = steep ? ay : ax, mn = steep ? ax : ay;
     if (!(mn > 0.0)) return exact(y, x);  // on an axis (a boundary) or NaN
-    const double t = mn / mx;  // tan of the angle to the nearer axis, in [0, 1]
+    const double t = mn / mx;             // tan of the angle to the nearer axis, in [0, 1]
     int k = lut_[static_cast<int>(t * kLut)];
     k += t >= tan_[k + 1];
     if (t - tan_[k] < 1e-12 || tan_[k + 1] - t < 1e-12) return exact(y, x);
     // Off every boundary: integer arithmetic over the symmetries, with selects, not branches
     // (the signs of x and y are unpredictable).
     const int Q = quadrant_bins_;
-    const int kb = steep ? Q - k - 1 : k;            // bin of the first-quadrant angle
-    const int upper = x >= 0 ? kb : 2 * Q - 1 - kb;  // bin of |angle| in [0, pi]
+    const int kb = steep ? Q - k - 1 : k;             // bin of the first-quadrant angle
+    const int upper = x >= 0 ? kb : 2 * Q - 1 - kb;   // bin of |angle| in [0, pi]
     return (y >= 0 ? upper : ~upper) + offset_bins_;  // floor(-v) = -floor(v) - 1 = ~floor(v)
   }
 

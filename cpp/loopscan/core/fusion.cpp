@@ -15,9 +15,12 @@ Fusion parse_fusion(const std::string& name) {
 
 std::string fusion_name(Fusion fusion) {
   switch (fusion) {
-    case Fusion::Fused: return "fused";
-    case Fusion::Structure: return "structure";
-    case Fusion::Intensity: return "intensity";
+    case Fusion::Fused:
+      return "fused";
+    case Fusion::Structure:
+      return "structure";
+    case Fusion::Intensity:
+      return "intensity";
   }
   return "?";
 }

@@ -55,7 +55,7 @@ Eigen::MatrixXd gram_matrix(const Eigen::MatrixXd& a) {
   const RowMajor rows = a;
   Eigen::MatrixXd g(a.rows(), a.rows());
   (simd::has_avx2() ? gram_avx2 : gram_base)(rows.data(), static_cast<int>(a.rows()),
-                                              static_cast<int>(a.cols()), g.data());
+                                             static_cast<int>(a.cols()), g.data());
   return g;
 }
 

@@ -20,8 +20,11 @@ struct PolarBinner {
   Eigen::VectorXd ray_cos, ray_sin;  // boundary rays inside one quadrant
 
   explicit PolarBinner(const M2dpConfig& c)
-      : sectors(c.azimuth_bins), rings(c.radial_bins), sector_inv(c.azimuth_bins / (2.0 * M_PI)),
-        ring_inv(c.radial_bins / c.max_radius_m), reference(c.mode == Mode::Reference) {
+      : sectors(c.azimuth_bins),
+        rings(c.radial_bins),
+        sector_inv(c.azimuth_bins / (2.0 * M_PI)),
+        ring_inv(c.radial_bins / c.max_radius_m),
+        reference(c.mode == Mode::Reference) {
     const int per_quadrant = sectors % 4 == 0 ? sectors / 4 : 0;
     ray_cos.resize(std::max(per_quadrant - 1, 0));
     ray_sin.resize(ray_cos.size());
@@ -42,10 +45,23 @@ struct PolarBinner {
     const double X = -x, Y = -y;
     int quadrant;
     double u, v;
-    if (X > 0 && Y >= 0) { quadrant = 0; u = X; v = Y; }
-    else if (X <= 0 && Y > 0) { quadrant = 1; u = Y; v = -X; }
-    else if (X < 0 && Y <= 0) { quadrant = 2; u = -X; v = -Y; }
-    else { quadrant = 3; u = -Y; v = X; }
+    if (X > 0 && Y >= 0) {
+      quadrant = 0;
+      u = X;
+      v = Y;
+    } else if (X <= 0 && Y > 0) {
+      quadrant = 1;
+      u = Y;
+      v = -X;
+    } else if (X < 0 && Y <= 0) {
+      quadrant = 2;
+      u = -X;
+      v = -Y;
+    } else {
+      quadrant = 3;
+      u = -Y;
+      v = X;
+    }
     int sub = 0;
     for (Eigen::Index j = 0; j < ray_cos.size(); ++j) sub += v * ray_cos(j) >= u * ray_sin(j);
     return quadrant * (sectors / 4) + sub;

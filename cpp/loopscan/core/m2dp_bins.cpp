@@ -73,16 +73,20 @@ LOOPSCAN_INLINE void dispatch_rays(std::size_t rays, const PlanarCloud& c, const
                                    float ring_inv, int rings, int shift, const float* rc,
                                    const float* rs, const float* g, double* cr, double* gr) {
   switch (rays) {
-    case 1: return bin_kernel<1, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
-    case 3: return bin_kernel<3, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
-    case 7: return bin_kernel<7, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
-    default: return bin_kernel<0, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    case 1:
+      return bin_kernel<1, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    case 3:
+      return bin_kernel<3, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    case 7:
+      return bin_kernel<7, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    default:
+      return bin_kernel<0, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
   }
 }
 
 void kernel_base(std::size_t rays, const PlanarCloud& c, const float (&axes)[6], float ring_inv,
-                 int rings, int shift, const float* rc, const float* rs, const float* g,
-                 double* cr, double* gr) {
+                 int rings, int shift, const float* rc, const float* rs, const float* g, double* cr,
+                 double* gr) {
   dispatch_rays<16>(rays, c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
 }
 
@@ -95,8 +99,7 @@ LOOPSCAN_AVX2 void kernel_avx2(std::size_t rays, const PlanarCloud& c, const flo
 }  // namespace
 
 void M2dpBinner::accumulate(const PlanarCloud& c, const Eigen::Vector3d& xa,
-                            const Eigen::Vector3d& ya, double* count_row,
-                            double* gray_row) const {
+                            const Eigen::Vector3d& ya, double* count_row, double* gray_row) const {
   const float axes[6] = {float(xa(0)), float(xa(1)), float(xa(2)),
                          float(ya(0)), float(ya(1)), float(ya(2))};
   const float ring_inv = static_cast<float>(rings_ / max_radius_);

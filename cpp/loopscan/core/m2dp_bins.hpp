@@ -1,8 +1,9 @@
 #pragma once
 // Default-mode M2DP binning, vectorised: projects points on one plane, finds each point's polar
 // bin (ring * sectors + sector; none beyond the last ring) in single precision, several points
-// per instruction, and adds it to the plane's count and gray-sum rows. The sector comes from comparisons against the boundary rays instead
-// of atan2; ties at exact boundaries may fall on either side, as any rounding could.
+// per instruction, and adds it to the plane's count and gray-sum rows. The sector comes from
+// comparisons against the boundary rays instead of atan2; ties at exact boundaries may fall on
+// either side, as any rounding could.
 #include <vector>
 
 #include <Eigen/Core>
@@ -26,7 +27,7 @@ class M2dpBinner {
  private:
   int sectors_, rings_;
   double max_radius_;
-  int shift_ = 0;  // log2(sectors)
+  int shift_ = 0;                         // log2(sectors)
   std::vector<float> ray_cos_, ray_sin_;  // boundary rays inside a quadrant
 };
 

@@ -27,7 +27,8 @@ double scan_context_distance(const Signature& query, const Signature& db, Compon
     for (int mirror = 0; mirror < 2; ++mirror) {
       double dot = 0;
       for (int s = 0; s < sectors; ++s) {
-        const int from = mirror ? ((shift - s) % sectors + sectors) % sectors : (s + shift) % sectors;
+        const int from =
+            mirror ? ((shift - s) % sectors + sectors) % sectors : (s + shift) % sectors;
         for (int r = 0; r < rings; ++r) dot += q(from * rings + r) * d(s * rings + r);
       }
       if (dot > best) {

@@ -23,7 +23,7 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
     if (reference) {
       sector = static_cast<int>(std::floor((std::atan2(a2, a1) + M_PI) * sector_inv));
     } else {
-      if (ring >= rings) continue;  // beyond max radius: dropped, not leaked
+      if (ring >= rings) continue;           // beyond max radius: dropped, not leaked
       sector = sector_of(a2, a1) % sectors;  // +pi and -pi: the same ray
     }
     const int idx = sector * rings + ring;

@@ -79,7 +79,8 @@ class ScanContextMatcher final : public PlaceMatcher {
     for (int c = 0; c < 2; ++c) {
       spectrum(query, c, qre, qim);
       for (std::size_t b = 0; b * kL < n_; ++b) {
-        const T* part = &blocks_[b * block_size() + static_cast<std::size_t>(c) * rings_ * bins_ * 2 * kL];
+        const T* part =
+            &blocks_[b * block_size() + static_cast<std::size_t>(c) * rings_ * bins_ * 2 * kL];
         kernel_(args_, qre.data(), qim.data(), part, best);
         for (int lane = 0; lane < kL && b * kL + lane < n_; ++lane) {
           rows(c, static_cast<Eigen::Index>(b * kL + lane)) = (1.0 - double(best[lane])) / 2.0;

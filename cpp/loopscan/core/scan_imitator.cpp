@@ -122,8 +122,8 @@ void ScanImitator::crop_fast(const KeyframePose& keyframe, CameraPoints& in_rang
   const float range2 = static_cast<float>(config_.range_m * config_.range_m);
   const std::size_t n = world_.size();
   in_range.resize(n);
-  transform_points(R, t, world_.x.data(), world_.y.data(), world_.z.data(), n,
-                   in_range.x.data(), in_range.y.data(), in_range.z.data());
+  transform_points(R, t, world_.x.data(), world_.y.data(), world_.z.data(), n, in_range.x.data(),
+                   in_range.y.data(), in_range.z.data());
   float *cx = in_range.x.data(), *cy = in_range.y.data(), *cz = in_range.z.data();
   const float *wx = world_.x.data(), *wy = world_.y.data(), *wz = world_.z.data();
   std::size_t kept = 0;

@@ -8,9 +8,12 @@ namespace loopscan {
 
 int rows_per_place(Method method) {
   switch (method) {
-    case Method::ScanContext: return 1;
-    case Method::M2dp: return 4;
-    case Method::Delight: return 16;
+    case Method::ScanContext:
+      return 1;
+    case Method::M2dp:
+      return 4;
+    case Method::Delight:
+      return 16;
   }
   return 1;
 }
@@ -25,16 +28,20 @@ int signature_columns(Method method) {
       const M2dpConfig c;
       return 2 * (c.plane_azimuths * c.plane_elevations + c.azimuth_bins * c.radial_bins);
     }
-    case Method::Delight: return DelightConfig{}.intensity_bins;
+    case Method::Delight:
+      return DelightConfig{}.intensity_bins;
   }
   return 0;
 }
 
 std::string method_name(Method method) {
   switch (method) {
-    case Method::ScanContext: return "sc";
-    case Method::M2dp: return "m2dp";
-    case Method::Delight: return "delight";
+    case Method::ScanContext:
+      return "sc";
+    case Method::M2dp:
+      return "m2dp";
+    case Method::Delight:
+      return "delight";
   }
   return "?";
 }

@@ -22,11 +22,11 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
     matcher->distances(queries[i], components);
     const Eigen::RowVectorXd row =
         combine_components(components, options.fusion, options.structure_weight);
-    total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count();
+    total_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     // The mask applies after fusion: the row statistics include the excluded columns.
-    out.matches.push_back(best_match(row.data(), static_cast<int>(row.size()),
-                                     static_cast<int>(i), options.protocol.mask_width));
+    out.matches.push_back(best_match(row.data(), static_cast<int>(row.size()), static_cast<int>(i),
+                                     options.protocol.mask_width));
   }
   out.query_ms = queries.empty() ? 0.0 : total_ms / static_cast<double>(queries.size());
   out.pr = evaluate_matches(out.matches, query_positions, database_positions, options.protocol,

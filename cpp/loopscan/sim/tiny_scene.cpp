@@ -48,8 +48,8 @@ void route_pose(const TinySceneConfig& c, double s, Eigen::Vector3d& pos, double
   const double t = std::fmod(s, 4 * side_len);
   const int side = static_cast<int>(t / side_len);
   const double a = t - side * side_len - half;
-  const Eigen::Vector3d start[4] = {{-half, 0, -half}, {half, 0, -half}, {half, 0, half},
-                                    {-half, 0, half}};
+  const Eigen::Vector3d start[4] = {
+      {-half, 0, -half}, {half, 0, -half}, {half, 0, half}, {-half, 0, half}};
   const Eigen::Vector3d dir[4] = {{1, 0, 0}, {0, 0, 1}, {-1, 0, 0}, {0, 0, -1}};
   pos = start[side] + (a + half) * dir[side];
   yaw = std::atan2(dir[side].x(), dir[side].z());

@@ -10,8 +10,8 @@
 namespace loopscan::sim {
 
 struct TinySceneConfig {
-  double block_m = 120.0;      // the route drives around a square block ...
-  int laps = 2;                // ... this many times, so every place is revisited
+  double block_m = 120.0;  // the route drives around a square block ...
+  int laps = 2;            // ... this many times, so every place is revisited
   double keyframe_step_m = 1.5;
   int points_per_keyframe = 250;
   double view_depth_m = 40.0;  // points are exported up to this depth in front of the camera
@@ -20,8 +20,8 @@ struct TinySceneConfig {
 };
 
 struct TinyScene {
-  std::vector<KeyframePose> poses;        // SO-DSO convention: world-to-camera, x right y down z fwd
-  std::vector<IdPoint> points;            // world frame, sorted by keyframe id
+  std::vector<KeyframePose> poses;  // SO-DSO convention: world-to-camera, x right y down z fwd
+  std::vector<IdPoint> points;      // world frame, sorted by keyframe id
   std::vector<Eigen::Vector3d> positions;  // ground-truth camera centre of every keyframe id
 };
 
