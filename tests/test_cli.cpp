@@ -186,3 +186,41 @@ TEST(Cli, PairsReproducesThePeerF1Max) {
 
 }  // namespace
 }  // namespace loopscan
+
+namespace loopscan {
+namespace {
+
+TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
+  const fs::path d = temp_dir("simulate");
+  const CliResult r = run("simulate --trajectory builtin:short --season winter --seed 3 --out " +
+                          (d / "sim").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "gt.txt", "world.json"}) {
+    EXPECT_TRUE(fs::exists(d / "sim" / f)) << f;
+  }
+  nlohmann::json world;
+  std::ifstream(d / "sim" / "world.json") >> world;
+  EXPECT_EQ(world["conditions"]["season"], "winter");
+  EXPECT_TRUE(world.contains("world"));
+  const CliResult r2 = run("describe --method sc --poses " + (d / "sim/poses_history_file.txt").string() +
+                           " --points " + (d / "sim/pts_history_file.txt").string() + " --out " +
+                           (d / "sc").string());
+  ASSERT_EQ(r2.code, 0) << r2.output;
+  const CliResult r3 = run("evaluate --method sc --signatures " + (d / "sc").string() + " --gt " +
+                           (d / "sim/gt.txt").string() + " --out " + (d / "eval").string());
+  ASSERT_EQ(r3.code, 0) << r3.output;
+  EXPECT_FALSE(has_temp_files(d));
+}
+
+TEST(Cli, SimulateRejectsUnknownTrajectoryAndSeason) {
+  const fs::path d = temp_dir("simulate_bad");
+  CliResult r = run("simulate --trajectory builtin:moon --out " + d.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("moon"), std::string::npos) << r.output;
+  r = run("simulate --trajectory builtin:short --season monsoon --out " + d.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("monsoon"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace loopscan

@@ -9,5 +9,6 @@ void add_describe_command(CLI::App& app);
 void add_evaluate_command(CLI::App& app);
 void add_pairs_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
+void add_simulate_command(CLI::App& app);
 
 }  // namespace loopscan::cli

@@ -1,15 +1,19 @@
-// loopscan demo: the whole method on a built-in synthetic street scene, no download needed.
+// loopscan demo: the built-in city in summer and in winter, the three descriptors same-season
+// and cross-season, and an HTML report with figures. No download needed.
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "demo_figures.hpp"
 #include "loopscan/core/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
+#include "loopscan/report/html_page.hpp"
 #include "loopscan/report/pr_plot.hpp"
-#include "loopscan/sim/tiny_scene.hpp"
+#include "simulation_setup.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -17,54 +21,111 @@ namespace {
 struct DemoArgs {
   std::string out = "demo";
   unsigned seed = 7;
+  int threads = 2;
 };
 
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 void run_demo(const DemoArgs& a) {
-  sim::TinySceneConfig config;
-  config.seed = a.seed;
-  const sim::TinyScene scene = sim::make_tiny_scene(config);
-  std::printf("tiny scene: %zu keyframes, %zu points, two laps around a %.0f m block\n",
-              scene.poses.size(), scene.points.size(), config.block_m);
-  std::printf("%-8s %8s %12s %8s %11s %11s %9s\n", "method", "AUC", "recall@100P", "F1-max",
-              "imitate ms", "describe ms", "query ms");
-  std::vector<report::Series> curves;
-  nlohmann::json table = nlohmann::json::array();
+  const auto t_start = std::chrono::steady_clock::now();
+  std::printf("[1/5] trajectory and world ...\n");
+  std::fflush(stdout);
+  const LoadedTrajectory route = load_trajectory("builtin:city");
+  sim::WorldConfig wc;
+  wc.seed = a.seed;
+  const sim::World world = sim::World::build(route.trajectory.centres(), wc);
+  const sim::StereoCamera camera;
+
+  std::vector<Session> sessions;
+  const char* names[2] = {"summer", "winter"};
+  for (int i = 0; i < 2; ++i) {
+    std::printf("[2/5] simulating the %s drive ... (%.0f s)\n", names[i], seconds_since(t_start));
+    std::fflush(stdout);
+    sim::Conditions c = sim::Conditions::for_season(sim::parse_season(names[i]));
+    c.session_seed = 100 + i;
+    sim::VoSimConfig vo;
+    vo.seed = a.seed * 7919u + c.session_seed;
+    sessions.push_back(simulate_session(route, world, c, camera, vo, {}));
+    write_session(a.out + "/" + names[i], route, sessions.back());
+  }
+
+  DemoResults results;
+  results.route = &route.trajectory;
   for (Method method : {Method::ScanContext, Method::M2dp, Method::Delight}) {
-    const SequenceOptions options = SequenceOptions::make(method, Mode::Default);
-    const SequenceSignatures sigs = describe_sequence(scene.poses, scene.points, options);
-    std::vector<Eigen::Vector3d> positions;
-    for (int id : sigs.keyframe_ids) positions.push_back(scene.positions[id]);
+    std::printf("[3/5] describing with %s ... (%.0f s)\n", method_name(method).c_str(),
+                seconds_since(t_start));
+    std::fflush(stdout);
+    MethodResult mr;
+    mr.method = method;
+    SequenceOptions options = SequenceOptions::make(method, Mode::Default);
+    options.threads = a.threads;
+    SequenceSignatures sig[2];
+    std::vector<Eigen::Vector3d> pos[2];
+    for (int i = 0; i < 2; ++i) {
+      sig[i] = describe_sequence(sessions[i].vo.poses, sessions[i].vo.points, options);
+      for (int id : sig[i].keyframe_ids) pos[i].push_back(route.trajectory.T_world_cam[id].translation());
+    }
+    mr.imitate_ms = sig[0].imitate_ms;
+    mr.describe_ms = sig[0].describe_ms;
+    std::printf("[4/5] evaluating %s ... (%.0f s)\n", method_name(method).c_str(),
+                seconds_since(t_start));
+    std::fflush(stdout);
     eval::PlaceEvaluationOptions eo;
     eo.method = method;
-    const eval::PlaceEvaluation ev =
-        eval::evaluate_places(sigs.signatures, sigs.signatures, positions, positions, eo);
-    std::printf("%-8s %8.4f %12.4f %8.4f %11.3f %11.3f %9.3f\n", method_name(method).c_str(),
-                ev.pr.auc, ev.pr.recall_at_100_precision, ev.pr.f1_max, sigs.imitate_ms,
-                sigs.describe_ms, ev.query_ms);
-    curves.push_back(report::pr_series(ev.pr.curve, method_name(method)));
-    table.push_back({{"method", method_name(method)},
-                     {"auc", ev.pr.auc},
-                     {"recall_at_100_precision", ev.pr.recall_at_100_precision},
-                     {"f1_max", ev.pr.f1_max},
-                     {"n_gt_loops", ev.pr.n_gt_loops},
-                     {"imitate_ms", sigs.imitate_ms},
-                     {"describe_ms", sigs.describe_ms},
-                     {"query_ms", ev.query_ms}});
+    eo.threads = a.threads;
+    mr.same = eval::evaluate_places(sig[0].signatures, sig[0].signatures, pos[0], pos[0], eo);
+    eo.protocol = eval::cross_session_protocol();
+    mr.cross = eval::evaluate_places(sig[1].signatures, sig[0].signatures, pos[1], pos[0], eo);
+    mr.query_positions = pos[1];
+    if (method == Method::ScanContext) results.example = example_scan(sessions[0].vo, options);
+    results.methods.push_back(mr);
   }
-  std::filesystem::create_directories(a.out);
-  io::write_file_atomic(a.out + "/metrics.json", table.dump(1) + "\n");
-  io::write_file_atomic(a.out + "/pr.svg",
-                        report::pr_curve_svg(curves, "Tiny scene, same session (default mode)"));
-  std::printf("wrote %s/metrics.json and %s/pr.svg\n", a.out.c_str(), a.out.c_str());
+
+  std::printf("[5/5] report ... (%.0f s)\n", seconds_since(t_start));
+  std::printf("\n%-8s | %-26s | %-26s | %9s %9s %9s\n", "", "summer vs summer", "winter vs summer",
+              "imitate", "describe", "query");
+  std::printf("%-8s | %8s %8s %8s | %8s %8s %8s | %9s %9s %9s\n", "method", "AUC", "R@100P",
+              "F1max", "AUC", "R@100P", "F1max", "ms/kf", "ms/kf", "ms/query");
+  nlohmann::json table = nlohmann::json::array();
+  for (const MethodResult& m : results.methods) {
+    std::printf("%-8s | %8.4f %8.4f %8.4f | %8.4f %8.4f %8.4f | %9.3f %9.3f %9.3f\n",
+                method_name(m.method).c_str(), m.same.pr.auc, m.same.pr.recall_at_100_precision,
+                m.same.pr.f1_max, m.cross.pr.auc, m.cross.pr.recall_at_100_precision,
+                m.cross.pr.f1_max, m.imitate_ms, m.describe_ms, m.same.query_ms);
+    table.push_back({{"method", method_name(m.method)},
+                     {"same_season", {{"auc", m.same.pr.auc},
+                                      {"recall_at_100_precision", m.same.pr.recall_at_100_precision},
+                                      {"f1_max", m.same.pr.f1_max},
+                                      {"n_gt_loops", m.same.pr.n_gt_loops}}},
+                     {"cross_season", {{"auc", m.cross.pr.auc},
+                                       {"recall_at_100_precision", m.cross.pr.recall_at_100_precision},
+                                       {"f1_max", m.cross.pr.f1_max},
+                                       {"n_gt_loops", m.cross.pr.n_gt_loops}}},
+                     {"imitate_ms", m.imitate_ms},
+                     {"describe_ms", m.describe_ms},
+                     {"query_ms", m.same.query_ms}});
+  }
+  std::filesystem::create_directories(a.out + "/report");
+  io::write_file_atomic(a.out + "/report/metrics.json", table.dump(1) + "\n");
+  io::write_file_atomic(a.out + "/report/index.html", report::render_html(demo_page(results)));
+  std::printf("\n%zu / %zu keyframes, %.0f points per keyframe; finished in %.0f s -> %s\n",
+              sessions[0].keyframe_ids.size(), sessions[1].keyframe_ids.size(),
+              sessions[0].vo.mean_points_per_keyframe, seconds_since(t_start),
+              (a.out + "/report/index.html").c_str());
 }
 
 }  // namespace
 
 void add_demo_command(CLI::App& app) {
   auto args = std::make_shared<DemoArgs>();
-  CLI::App* cmd = app.add_subcommand("demo", "Run all three descriptors on a built-in scene");
+  CLI::App* cmd = app.add_subcommand(
+      "demo", "Simulate the built-in city in summer and winter, run all descriptors, report");
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();
-  cmd->add_option("--seed", args->seed, "scene seed")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "world seed")->capture_default_str();
+  cmd->add_option("--threads", args->threads, "threads for description and matching")
+      ->capture_default_str();
   cmd->callback([args] { run_demo(*args); });
 }
 

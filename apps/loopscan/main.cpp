@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   loopscan::cli::add_describe_command(app);
   loopscan::cli::add_evaluate_command(app);
   loopscan::cli::add_pairs_command(app);
+  loopscan::cli::add_simulate_command(app);
   loopscan::cli::add_demo_command(app);
   try {
     app.parse(argc, argv);

@@ -1,6 +1,8 @@
 #include "loopscan/eval/place_evaluation.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <thread>
 
 #include "loopscan/eval/best_match.hpp"
 
@@ -15,19 +17,29 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
   const auto matcher = make_matcher(options.method, options.precision);
   for (const Signature& place : database) matcher->add(place);
 
-  Eigen::MatrixXd components;
+  const int threads = std::max(1, std::min<int>(options.threads, static_cast<int>(queries.size())));
+  out.matches.resize(queries.size());
+  std::vector<double> thread_ms(threads, 0.0);
+  auto work = [&](int t) {
+    Eigen::MatrixXd components;
+    for (std::size_t i = t; i < queries.size(); i += threads) {
+      const auto t0 = std::chrono::steady_clock::now();
+      matcher->distances(queries[i], components);
+      const Eigen::RowVectorXd row =
+          combine_components(components, options.fusion, options.structure_weight);
+      thread_ms[t] +=
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      // The mask applies after fusion: the row statistics include the excluded columns.
+      out.matches[i] = best_match(row.data(), static_cast<int>(row.size()), static_cast<int>(i),
+                                  options.protocol.mask_width);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& th : pool) th.join();
   double total_ms = 0;
-  for (std::size_t i = 0; i < queries.size(); ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    matcher->distances(queries[i], components);
-    const Eigen::RowVectorXd row =
-        combine_components(components, options.fusion, options.structure_weight);
-    total_ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    // The mask applies after fusion: the row statistics include the excluded columns.
-    out.matches.push_back(best_match(row.data(), static_cast<int>(row.size()), static_cast<int>(i),
-                                     options.protocol.mask_width));
-  }
+  for (double ms : thread_ms) total_ms += ms;
   out.query_ms = queries.empty() ? 0.0 : total_ms / static_cast<double>(queries.size());
   out.pr = evaluate_matches(out.matches, query_positions, database_positions, options.protocol,
                             options.reference_quirks);

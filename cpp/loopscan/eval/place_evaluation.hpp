@@ -17,12 +17,13 @@ struct PlaceEvaluationOptions {
   Precision precision = Precision::Float;
   Protocol protocol = same_session_protocol();
   bool reference_quirks = false;
+  int threads = 1;  // queries split over threads; results identical
 };
 
 struct PlaceEvaluation {
   std::vector<QueryMatch> matches;  // one per query
   PrResult pr;
-  double query_ms = 0;  // mean time of one difference-matrix row (all components, fused)
+  double query_ms = 0;  // mean time of one difference-matrix row (all components, fused), per thread
 };
 
 PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,

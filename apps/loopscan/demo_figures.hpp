@@ -1,0 +1,36 @@
+#pragma once
+// The demo report: results of every method and the figures built from them.
+#include <vector>
+
+#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/eval/place_evaluation.hpp"
+#include "loopscan/report/html_page.hpp"
+#include "loopscan/sim/vo_simulator.hpp"
+
+namespace loopscan::cli {
+
+struct MethodResult {
+  Method method = Method::ScanContext;
+  eval::PlaceEvaluation same, cross;
+  std::vector<Eigen::Vector3d> query_positions;  // cross-season queries (winter keyframes)
+  double imitate_ms = 0, describe_ms = 0;
+};
+
+struct ExampleScan {
+  int keyframe_id = -1;
+  Cloud scan;  // camera frame, Cartesian-filtered
+  Signature scan_context;
+};
+
+struct DemoResults {
+  const sim::Trajectory* route = nullptr;
+  std::vector<MethodResult> methods;
+  ExampleScan example;
+};
+
+// The imitated scan and Scan Context of the keyframe in the middle of the session.
+ExampleScan example_scan(const sim::VoOutput& vo, const SequenceOptions& options);
+
+report::HtmlPage demo_page(const DemoResults& results);
+
+}  // namespace loopscan::cli

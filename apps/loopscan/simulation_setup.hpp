@@ -1,0 +1,35 @@
+#pragma once
+// Shared by `simulate` and `demo`: trajectories from a spec string, sessions of the simulator.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "loopscan/sim/vo_simulator.hpp"
+
+namespace loopscan::cli {
+
+struct LoadedTrajectory {
+  sim::Trajectory trajectory;
+  bool gps = false;                       // RobotCar input: ground truth written as GPS rows
+  std::vector<Eigen::Vector3d> gps_rows;  // northing easting down
+};
+
+// "builtin:city" | "builtin:short" | "kitti:FILE" | "robotcar:FILE".
+LoadedTrajectory load_trajectory(const std::string& spec);
+
+struct Session {
+  sim::VoOutput vo;
+  std::vector<int> keyframe_ids;
+  nlohmann::json parameters;  // every parameter used
+};
+
+// One drive through `world` under `conditions`.
+Session simulate_session(const LoadedTrajectory& t, const sim::World& world,
+                         const sim::Conditions& conditions, const sim::StereoCamera& camera,
+                         const sim::VoSimConfig& vo, const std::vector<KeyframePose>& vo_poses);
+
+// Writes poses_history_file.txt, pts_history_file.txt, gt.txt, world.json into `dir`.
+void write_session(const std::string& dir, const LoadedTrajectory& t, const Session& s);
+
+}  // namespace loopscan::cli

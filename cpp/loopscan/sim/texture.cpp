@@ -1,0 +1,156 @@
+#include "loopscan/sim/texture.hpp"
+
+#include <algorithm>
+
+#include "loopscan/sim/texture_noise.hpp"
+
+namespace loopscan::sim {
+namespace {
+
+constexpr double kEdge = 0.04;  // edge width of windows and car parts
+
+double clamp01(double a) { return std::clamp(a, 0.0, 1.0); }
+double mix(double a, double b, double t) { return a + (b - a) * t; }
+
+double wall_albedo(const FacadeStyle& s, double u, double v) {
+  if (s.brick) {
+    // Large bricks/blocks (15 x 45 cm) with lighter mortar joints, running bond.
+    const double course = 0.15, len = 0.45;
+    const double row = std::floor(v / course);
+    const double bu = u + (static_cast<std::int64_t>(row) % 2 != 0 ? 0.5 * len : 0.0);
+    const double col = std::floor(bu / len);
+    const double lu = bu - col * len, lv = v - row * course;
+    const double brick =
+        smooth_box(lu, 0.015, len - 0.015, 0.01) * smooth_box(lv, 0.015, course - 0.015, 0.01);
+    const double tone = 0.1 * (hash_unit(s.salt, lattice(col), lattice(row), 3) - 0.5);
+    return mix(s.wall + 0.12, s.wall + tone, brick);
+  }
+  return s.wall + 0.12 * (fbm2(0.5 * u, 0.5 * v, s.salt, 3) - 0.5) +
+         0.04 * (value_noise2(6.0 * u, 6.0 * v, s.salt + 1) - 0.5);
+}
+
+}  // namespace
+
+double facade_albedo(const FacadeStyle& s, double u, double v, double face_width, double height) {
+  double a = wall_albedo(s, u, v);
+  // A darker cornice band between the ground floor and the upper floors.
+  a = mix(a, 0.7 * a,
+          smooth_box(v, s.ground_floor_height - 0.12, s.ground_floor_height + 0.12, kEdge));
+  const double pitch = s.window_pitch;
+  const int columns = static_cast<int>(std::floor((face_width - 1.0) / pitch));
+  if (columns < 1) return clamp01(a);
+  const double cu = u - 0.5 * (face_width - columns * pitch);
+  const double k = std::floor(cu / pitch);
+  if (k < 0 || k >= columns) return clamp01(a);
+  double lu, lv, ww, wh, row;
+  if (v >= s.ground_floor_height) {
+    row = std::floor((v - s.ground_floor_height) / s.floor_height);
+    const double floor_v = s.ground_floor_height + row * s.floor_height;
+    if (floor_v + s.sill + s.window_height > height - 0.4) return clamp01(a);  // no room left
+    lu = cu - k * pitch - 0.5 * (pitch - s.window_width);
+    lv = v - floor_v - s.sill;
+    ww = s.window_width;
+    wh = s.window_height;
+  } else if (s.shop_front) {
+    row = -1;
+    lu = cu - k * pitch - 0.15;
+    lv = v - 0.5;
+    ww = pitch - 0.3;
+    wh = s.ground_floor_height - 0.9;
+  } else {
+    row = -1;
+    lu = cu - k * pitch - 0.5 * (pitch - s.window_width);
+    lv = v - 1.0;
+    ww = s.window_width;
+    wh = std::min(s.window_height, s.ground_floor_height - 1.4);
+  }
+  const double frame =
+      smooth_box(lu, -0.08, ww + 0.08, kEdge) * smooth_box(lv, -0.08, wh + 0.08, kEdge);
+  const double glass = smooth_box(lu, 0.0, ww, kEdge) * smooth_box(lv, 0.0, wh, kEdge);
+  // Each pane reflects something different; a soft gradient inside the pane.
+  const double pane = s.glass + 0.16 * (hash_unit(s.salt, lattice(k), lattice(row), 11) - 0.5) +
+                      0.05 * (value_noise2(1.5 * u, 1.5 * v, s.salt + 2) - 0.5);
+  a = a * (1.0 - frame) + s.frame * (frame - glass) + pane * glass;
+  return clamp01(a);
+}
+
+double roof_albedo(std::uint32_t salt, double x, double z) {
+  return clamp01(0.3 + 0.14 * (fbm2(0.4 * x, 0.4 * z, salt, 2) - 0.5) +
+                 0.06 * (value_noise2(4.0 * x, 4.0 * z, salt + 1) - 0.5));
+}
+
+double road_albedo(std::uint32_t salt, double x, double z) {
+  // Dark asphalt, deliberately low texture.
+  return clamp01(0.16 + 0.05 * (fbm2(0.3 * x, 0.3 * z, salt, 2) - 0.5) +
+                 0.025 * (value_noise2(6.0 * x, 6.0 * z, salt + 1) - 0.5));
+}
+
+double sidewalk_albedo(std::uint32_t salt, double x, double z) {
+  const double tile = 0.5;
+  const double tx = std::floor(x / tile), tz = std::floor(z / tile);
+  const double lx = x - tx * tile, lz = z - tz * tile;
+  const double inside =
+      smooth_box(lx, 0.015, tile - 0.015, 0.01) * smooth_box(lz, 0.015, tile - 0.015, 0.01);
+  const double tone = 0.06 * (hash_unit(salt, lattice(tx), lattice(tz)) - 0.5);
+  return clamp01(0.36 + 0.12 * inside + tone +
+                 0.02 * (value_noise2(5.0 * x, 5.0 * z, salt + 1) - 0.5));
+}
+
+double grass_albedo(std::uint32_t salt, double x, double z) {
+  return clamp01(0.26 + 0.16 * (fbm2(0.4 * x, 0.4 * z, salt, 3) - 0.5) +
+                 0.08 * (value_noise2(5.0 * x, 5.0 * z, salt + 1) - 0.5));
+}
+
+double snow_albedo(std::uint32_t salt, double x, double z) {
+  // Snow hides the texture below: bright, nearly uniform.
+  return clamp01(0.9 + 0.03 * (fbm2(0.2 * x, 0.2 * z, salt, 2) - 0.5) +
+                 0.01 * (value_noise2(3.0 * x, 3.0 * z, salt + 1) - 0.5));
+}
+
+double bark_albedo(std::uint32_t salt, double base, double u, double v) {
+  // Vertical stripes: fast variation around the trunk, slow along it.
+  return clamp01(base + 0.12 * (value_noise2(10.0 * u, 0.8 * v, salt) - 0.5) +
+                 0.05 * (value_noise2(25.0 * u, 3.0 * v, salt + 1) - 0.5));
+}
+
+double leaf_albedo(std::uint32_t salt, double base, double x, double y, double z) {
+  return clamp01(base + 0.2 * (value_noise3(10.0 * x, 10.0 * y, 10.0 * z, salt) - 0.5) +
+                 0.1 * (value_noise3(3.0 * x, 3.0 * y, 3.0 * z, salt + 1) - 0.5));
+}
+
+double car_side_albedo(const CarStyle& s, double u, double v) {
+  if (!s.front_at_plus_u) u = s.length - u;
+  double a = s.body + 0.03 * (value_noise2(2.0 * u, 2.0 * v, s.salt) - 0.5);
+  a = mix(a, 0.5 * s.body + 0.05, smooth_box(v, -1.0, 0.35, kEdge));  // sill / bumper line
+  for (const double wc : {0.8, s.length - 0.9}) {
+    const double d = std::sqrt((u - wc) * (u - wc) + (v - 0.33) * (v - 0.33));
+    a = mix(a, 0.06, 1.0 - smoothstep(0.30, 0.34, d));  // tyre
+    a = mix(a, 0.55, 1.0 - smoothstep(0.13, 0.17, d));  // rim
+  }
+  const double mid = 0.5 * s.length;
+  const double window = smooth_box(v, 0.95, s.height - 0.08, kEdge) *
+                        smooth_box(u, 0.6, s.length - 0.9, kEdge) *
+                        (1.0 - smooth_box(u, mid - 0.06, mid + 0.06, kEdge));
+  return clamp01(mix(a, s.glass, window));
+}
+
+double car_end_albedo(const CarStyle& s, double u, double v, bool front) {
+  const double w = s.width;
+  double a = s.body;
+  a = mix(a, 0.08, smooth_box(v, -1.0, 0.4, kEdge));  // bumper
+  a = mix(a, s.glass,
+          smooth_box(v, 0.95, s.height - 0.1, kEdge) * smooth_box(u, 0.15, w - 0.15, kEdge));
+  const double lights = smooth_box(v, 0.6, 0.75, kEdge) *
+                        (smooth_box(u, 0.1, 0.35, kEdge) + smooth_box(u, w - 0.35, w - 0.1, kEdge));
+  a = mix(a, front ? 0.9 : 0.3, lights);
+  a = mix(a, 0.85,
+          smooth_box(u, 0.5 * w - 0.26, 0.5 * w + 0.26, kEdge) *
+              smooth_box(v, 0.3, 0.42, kEdge));  // number plate
+  return clamp01(a);
+}
+
+double car_roof_albedo(const CarStyle& s, double u, double v) {
+  return clamp01(s.body * 1.05 + 0.03 * (value_noise2(2.0 * u, 2.0 * v, s.salt + 5) - 0.5));
+}
+
+}  // namespace loopscan::sim

@@ -1,0 +1,82 @@
+#include "loopscan/sim/world_config.hpp"
+
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace loopscan::sim {
+
+std::string surface_name(Surface surface) {
+  switch (surface) {
+    case Surface::Ground:
+      return "ground";
+    case Surface::Road:
+      return "road";
+    case Surface::Sidewalk:
+      return "sidewalk";
+    case Surface::Facade:
+      return "facade";
+    case Surface::Roof:
+      return "roof";
+    case Surface::Trunk:
+      return "trunk";
+    case Surface::Crown:
+      return "crown";
+    case Surface::Pole:
+      return "pole";
+    case Surface::Car:
+      return "car";
+  }
+  return "unknown";
+}
+
+void WorldConfig::validate() const {
+  const auto need = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("WorldConfig: ") + what);
+  };
+  need(road_half_width_m >= 0.0, "road_half_width_m must be >= 0");
+  need(camera_height_m > 0.0, "camera_height_m must be > 0");
+  need(sidewalk_width_m > 0.0, "sidewalk_width_m must be > 0");
+  need(sample_spacing_m > 0.0, "sample_spacing_m must be > 0");
+  need(revisit_radius_m > 0.0, "revisit_radius_m must be > 0");
+  need(facade_width_min_m > 0.0 && facade_width_min_m <= facade_width_max_m, "facade width");
+  need(facade_height_min_m > 0.0 && facade_height_min_m <= facade_height_max_m, "facade height");
+  need(facade_depth_min_m > 0.0 && facade_depth_min_m <= facade_depth_max_m, "facade depth");
+  need(setback_min_m >= 0.0 && setback_min_m <= setback_max_m, "setback");
+  need(gap_probability >= 0.0 && gap_probability < 1.0, "gap_probability in [0, 1)");
+  need(gap_width_min_m > 0.0 && gap_width_min_m <= gap_width_max_m, "gap width");
+  need(tree_street_probability >= 0.0 && tree_street_probability <= 1.0,
+       "tree_street_probability in [0, 1]");
+  need(tree_spacing_min_m > 0.0 && tree_spacing_min_m <= tree_spacing_max_m, "tree spacing");
+  need(crown_radius_min_m > 0.0 && crown_radius_min_m <= crown_radius_max_m, "crown radius");
+  need(foliage_voxel_m > 0.0, "foliage_voxel_m must be > 0");
+  need(pole_spacing_m > 0.0, "pole_spacing_m must be > 0");
+  need(car_slot_spacing_m > 0.0, "car_slot_spacing_m must be > 0");
+  need(car_occupancy >= 0.0 && car_occupancy <= 1.0, "car_occupancy in [0, 1]");
+  need(grid_cell_m > 0.0, "grid_cell_m must be > 0");
+}
+
+nlohmann::json to_json(const WorldConfig& c) {
+  return {{"seed", c.seed},
+          {"road_half_width_m", c.road_half_width_m},
+          {"camera_height_m", c.camera_height_m},
+          {"sidewalk_width_m", c.sidewalk_width_m},
+          {"sample_spacing_m", c.sample_spacing_m},
+          {"revisit_radius_m", c.revisit_radius_m},
+          {"facade_width_m", {c.facade_width_min_m, c.facade_width_max_m}},
+          {"facade_height_m", {c.facade_height_min_m, c.facade_height_max_m}},
+          {"facade_depth_m", {c.facade_depth_min_m, c.facade_depth_max_m}},
+          {"setback_m", {c.setback_min_m, c.setback_max_m}},
+          {"gap_probability", c.gap_probability},
+          {"gap_width_m", {c.gap_width_min_m, c.gap_width_max_m}},
+          {"tree_street_probability", c.tree_street_probability},
+          {"tree_spacing_m", {c.tree_spacing_min_m, c.tree_spacing_max_m}},
+          {"crown_radius_m", {c.crown_radius_min_m, c.crown_radius_max_m}},
+          {"foliage_voxel_m", c.foliage_voxel_m},
+          {"pole_spacing_m", c.pole_spacing_m},
+          {"car_slot_spacing_m", c.car_slot_spacing_m},
+          {"car_occupancy", c.car_occupancy},
+          {"grid_cell_m", c.grid_cell_m}};
+}
+
+}  // namespace loopscan::sim

@@ -1,0 +1,53 @@
+#pragma once
+// Parameters of the synthetic street world and the surface classes a ray can hit.
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+namespace loopscan::sim {
+
+enum class Surface { Ground, Road, Sidewalk, Facade, Roof, Trunk, Crown, Pole, Car };
+std::string surface_name(Surface surface);
+
+// Cross-section of a street (distances from the centreline): road up to road_half_width, then
+// the parking lane (cars) and sidewalk (trees and poles on its outer edge) up to
+// road_half_width + sidewalk_width, then the setback, then the buildings.
+struct WorldConfig {
+  unsigned seed = 1;
+  double road_half_width_m = 4.5;  // nothing (except ground) within this distance of the centreline
+  double camera_height_m = 1.65;
+  double sidewalk_width_m = 3.0;
+
+  // Street sampling: objects are laid out once per street even if the trajectory revisits it.
+  double sample_spacing_m = 4.0;
+  double revisit_radius_m = 6.0;
+
+  // Buildings.
+  double facade_width_min_m = 6.0, facade_width_max_m = 25.0;
+  double facade_height_min_m = 5.0, facade_height_max_m = 25.0;
+  double facade_depth_min_m = 8.0, facade_depth_max_m = 20.0;
+  double setback_min_m = 1.0, setback_max_m = 6.0;  // beyond the sidewalk
+  double gap_probability = 0.2;
+  double gap_width_min_m = 3.0, gap_width_max_m = 15.0;
+
+  // Trees on the sidewalk.
+  double tree_street_probability = 0.85;  // share of street sides lined with trees
+  double tree_spacing_min_m = 8.0, tree_spacing_max_m = 15.0;
+  double crown_radius_min_m = 1.5, crown_radius_max_m = 2.4;
+  double foliage_voxel_m = 0.25;  // leaf clusters: crowns are voxelised, density per season
+
+  // Street lights.
+  double pole_spacing_m = 25.0;
+
+  // Parked cars: static slots, occupancy redrawn per session.
+  double car_slot_spacing_m = 6.0;
+  double car_occupancy = 0.5;
+
+  double grid_cell_m = 10.0;  // ray-casting acceleration grid
+
+  void validate() const;  // throws std::invalid_argument on inconsistent values
+};
+
+nlohmann::json to_json(const WorldConfig& config);
+
+}  // namespace loopscan::sim

@@ -1,0 +1,154 @@
+// Ray casting: the ground (a local plane under the nearest centreline point) bounds the walk
+// through the object grid; only the nearest hit is shaded.
+#include <algorithm>
+#include <cmath>
+
+#include "loopscan/sim/texture_noise.hpp"
+#include "loopscan/sim/world_internal.hpp"
+
+namespace loopscan::sim {
+namespace {
+
+constexpr std::size_t kMaxSessions = 8;
+
+// Ray parameter of the ground hit, or a negative value if the ray does not reach the ground.
+double ground_t(const StaticWorld& w, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  if (w.centreline.empty() || d.y() <= 1e-12) return -1.0;
+  double g = ground_y_at(w, o.x(), o.z());
+  if (o.y() >= g) return -1.0;  // at or below the ground
+  double t = (g - o.y()) / d.y();
+  if (w.flat) return t;
+  // Sloped streets: iterate the local plane under the hit point (a few steps converge).
+  for (int it = 0; it < 6; ++it) {
+    const Eigen::Vector3d p = o + t * d;
+    g = ground_y_at(w, p.x(), p.z());
+    const double t2 = (g - o.y()) / d.y();
+    if (t2 <= 0.0) return -1.0;
+    const bool done = std::abs(t2 - t) < 1e-9 * std::max(1.0, t);
+    t = t2;
+    if (done) break;
+  }
+  return t;
+}
+
+struct Best {
+  ObjectKind kind = ObjectKind::Facade;
+  std::size_t index = 0;
+  int face = 0;
+  bool cap = false;
+  bool ground = false;
+  bool found = false;
+};
+
+}  // namespace
+
+World::CarCache::Cars World::CarCache::get(const StaticWorld& world, unsigned session_seed) {
+  std::lock_guard<std::mutex> lock(mutex);
+  for (const auto& [seed, cars] : sessions)
+    if (seed == session_seed) return cars;
+  if (sessions.size() >= kMaxSessions) sessions.erase(sessions.begin());
+  sessions.emplace_back(session_seed, std::make_shared<const std::vector<ParkedCar>>(
+                                          draw_parked_cars(world, session_seed)));
+  return sessions.back().second;
+}
+
+bool foliage_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t0, double t1,
+                 double voxel, double density, std::uint32_t salt, double& t_hit) {
+  t0 = std::max(t0, 0.0);
+  if (density <= 0.0 || t1 <= t0) return false;
+  const Eigen::Vector3d p = o + t0 * d;
+  std::int64_t idx[3];
+  int step[3];
+  double t_next[3], t_delta[3];
+  for (int a = 0; a < 3; ++a) {
+    const double cell = std::floor(p[a] / voxel);
+    idx[a] = static_cast<std::int64_t>(cell);
+    if (std::abs(d[a]) < 1e-300) {
+      step[a] = 0;
+      t_next[a] = t_delta[a] = 1e300;
+    } else {
+      step[a] = d[a] > 0 ? 1 : -1;
+      t_next[a] = t0 + ((cell + (d[a] > 0 ? 1.0 : 0.0)) * voxel - p[a]) / d[a];
+      t_delta[a] = voxel / std::abs(d[a]);
+    }
+  }
+  double t = t0;
+  for (int guard = 0; guard < 100000; ++guard) {
+    if (hash_unit(salt, static_cast<std::uint32_t>(idx[0]), static_cast<std::uint32_t>(idx[1]),
+                  static_cast<std::uint32_t>(idx[2])) < density) {
+      t_hit = t;
+      return true;
+    }
+    const int a =
+        t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
+    t = t_next[a];
+    if (t >= t1) return false;
+    idx[a] += step[a];
+    t_next[a] += t_delta[a];
+  }
+  return false;
+}
+
+std::optional<Hit> World::raycast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                                  double max_distance, const Conditions& conditions) const {
+  if (!world_ || !(max_distance > 0.0) || !origin.allFinite() || !direction.allFinite())
+    return std::nullopt;
+  const StaticWorld& w = *world_;
+  double t_best = max_distance;
+  Best best;
+  const double tg = ground_t(w, origin, direction);
+  if (tg >= 0.0 && tg < t_best) {
+    t_best = tg;
+    best.ground = best.found = true;
+  }
+  const double density = foliage_density(conditions.season);
+  CarCache::Cars cars;  // fetched on the first car slot the ray meets
+  w.grid.traverse(origin, direction, t_best, [&](std::uint32_t code) {
+    const std::size_t i = code_index(code);
+    double t = 0.0;
+    int face = 0;
+    bool cap = false;
+    switch (code_kind(code)) {
+      case ObjectKind::Facade:
+        if (!intersect_box(w.facades[i].box, origin, direction, t_best, t, face)) return;
+        break;
+      case ObjectKind::Post:
+        if (!intersect_cylinder(w.posts[i].cylinder, origin, direction, t_best, t, cap)) return;
+        break;
+      case ObjectKind::Crown: {
+        double t0, t1;
+        if (!intersect_ellipsoid(w.crowns[i].ellipsoid, origin, direction, t0, t1) || t0 >= t_best)
+          return;
+        if (!foliage_hit(origin, direction, t0, std::min(t1, t_best), w.config.foliage_voxel_m,
+                         density, w.foliage_salt, t))
+          return;
+        break;
+      }
+      case ObjectKind::CarSlot: {
+        if (!cars) cars = cars_->get(w, conditions.session_seed);
+        const ParkedCar& car = (*cars)[i];
+        if (!car.present || !intersect_box(car.box, origin, direction, t_best, t, face)) return;
+        break;
+      }
+    }
+    if (t >= t_best) return;
+    t_best = t;
+    best = Best{code_kind(code), i, face, cap, false, true};
+  });
+  if (!best.found) return std::nullopt;
+  const Eigen::Vector3d p = origin + t_best * direction;
+  if (best.ground) return shade_ground(w, p, t_best, conditions);
+  switch (best.kind) {
+    case ObjectKind::Facade:
+      return shade_facade(w, w.facades[best.index], best.face, p, t_best, conditions);
+    case ObjectKind::Post:
+      return shade_post(w.posts[best.index], best.cap, p, t_best);
+    case ObjectKind::Crown:
+      return shade_crown(w, w.crowns[best.index], p, t_best, conditions);
+    case ObjectKind::CarSlot:
+      return shade_car((*cars)[best.index], w.slots[best.index].id, best.face, p, t_best);
+  }
+  return std::nullopt;
+}
+
+}  // namespace loopscan::sim

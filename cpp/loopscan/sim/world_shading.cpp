@@ -1,0 +1,116 @@
+// Albedo and texture gradient at a hit, with the season's effects (snow, foliage colour).
+#include <cmath>
+
+#include "loopscan/sim/texture_noise.hpp"
+#include "loopscan/sim/world_internal.hpp"
+
+namespace loopscan::sim {
+namespace {
+
+Hit make_hit(double t, const Eigen::Vector3d& p, Surface s, const TextureSample& tex, int id) {
+  Hit h;
+  h.distance = t;
+  h.point = p;
+  h.surface = s;
+  h.albedo = tex.albedo;
+  h.texture_gradient = tex.gradient;
+  h.object_id = id;
+  return h;
+}
+
+// Spring grass is fresher (lighter), fall grass is dry and strewn with leaves.
+double grass_shift(Season s) { return s == Season::Spring ? 0.05 : s == Season::Fall ? 0.08 : 0.0; }
+
+}  // namespace
+
+Hit shade_ground(const StaticWorld& w, const Eigen::Vector3d& p, double t, const Conditions& c) {
+  const double d = w.centreline.nearest(p.x(), p.z()).distance;
+  const double rhw = w.config.road_half_width_m;
+  const std::uint32_t salt = w.ground_salt;
+  const bool snow = has_snow(c.season);
+  if (d < rhw) {  // the road is cleared of snow
+    return make_hit(
+        t, p, Surface::Road,
+        sample_surface([&](double x, double z) { return road_albedo(salt, x, z); }, p.x(), p.z()),
+        -1);
+  }
+  const Surface s = d < rhw + w.config.sidewalk_width_m ? Surface::Sidewalk : Surface::Ground;
+  const double shift = grass_shift(c.season);
+  const auto albedo = [&](double x, double z) {
+    if (snow) return snow_albedo(salt + 17, x, z);
+    if (s == Surface::Sidewalk) return sidewalk_albedo(salt + 29, x, z);
+    return std::fmin(1.0, grass_albedo(salt + 41, x, z) + shift);
+  };
+  return make_hit(t, p, s, sample_surface(albedo, p.x(), p.z()), -1);
+}
+
+Hit shade_facade(const StaticWorld& w, const FacadeObject& f, int face, const Eigen::Vector3d& p,
+                 double t, const Conditions& c) {
+  if (face == kTop) {
+    const std::uint32_t salt = w.roof_salt;
+    const bool snow = has_snow(c.season);
+    const auto albedo = [&](double x, double z) {
+      return snow ? snow_albedo(salt + 3, x, z)
+                  : roof_albedo(salt + static_cast<std::uint32_t>(f.id), x, z);
+    };
+    return make_hit(t, p, Surface::Roof, sample_surface(albedo, p.x(), p.z()), f.id);
+  }
+  double lu, lv;
+  box_local(f.box, p.x(), p.z(), lu, lv);
+  // Faces across u run along v and vice versa; heights are measured from the ground.
+  const bool across_u = face == kMinusU || face == kPlusU;
+  const double u = across_u ? lv + f.box.half_v : lu + f.box.half_u;
+  const double width = 2.0 * (across_u ? f.box.half_v : f.box.half_u);
+  const double height = f.ground_y - f.box.y_top;
+  const auto albedo = [&](double uu, double vv) {
+    return facade_albedo(f.style, uu, vv, width, height);
+  };
+  return make_hit(t, p, Surface::Facade, sample_surface(albedo, u, f.ground_y - p.y()), f.id);
+}
+
+Hit shade_post(const PostObject& post, bool cap, const Eigen::Vector3d& p, double t) {
+  if (post.surface == Surface::Pole || cap)  // poles are plain paint; cut trunk tops too
+    return make_hit(t, p, post.surface, TextureSample{post.albedo, 0.0}, post.id);
+  const Cylinder& c = post.cylinder;
+  const double u = std::atan2(p.z() - c.cz, p.x() - c.cx) * c.radius;  // arc length
+  // Unwrap near the seam (atan2 jumps by 2 pi r) so the finite differences stay local.
+  const double seam = 3.14159265358979 * c.radius;
+  const auto albedo = [&](double uu, double vv) {
+    double x = uu;
+    if (x > seam) x -= 2.0 * seam;
+    if (x < -seam) x += 2.0 * seam;
+    return bark_albedo(post.salt, post.albedo, x, vv);
+  };
+  return make_hit(t, p, Surface::Trunk, sample_surface(albedo, u, post.ground_y - p.y()), post.id);
+}
+
+Hit shade_crown(const StaticWorld& w, const CrownObject& crown, const Eigen::Vector3d& p, double t,
+                const Conditions& c) {
+  const double base = foliage_albedo(c.season);
+  const std::uint32_t salt = w.leaf_salt;
+  const auto albedo = [&](double x, double y, double z) {
+    return leaf_albedo(salt, base, x, y, z);
+  };
+  return make_hit(t, p, Surface::Crown, sample_volume(albedo, p.x(), p.y(), p.z()), crown.id);
+}
+
+Hit shade_car(const ParkedCar& car, int id, int face, const Eigen::Vector3d& p, double t) {
+  double lu, lv;
+  box_local(car.box, p.x(), p.z(), lu, lv);
+  const CarStyle& s = car.style;
+  const double up = car.box.y_bottom - p.y();  // height above the ground
+  TextureSample tex;
+  if (face == kTop || face == kBottom) {
+    tex = sample_surface([&](double a, double b) { return car_roof_albedo(s, a, b); }, lu, lv);
+  } else if (face == kMinusV || face == kPlusV) {
+    tex = sample_surface([&](double a, double b) { return car_side_albedo(s, a, b); },
+                         lu + car.box.half_u, up);
+  } else {
+    const bool front = (face == kPlusU) == s.front_at_plus_u;
+    tex = sample_surface([&](double a, double b) { return car_end_albedo(s, a, b, front); },
+                         lv + car.box.half_v, up);
+  }
+  return make_hit(t, p, Surface::Car, tex, id);
+}
+
+}  // namespace loopscan::sim

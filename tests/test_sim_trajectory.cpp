@@ -1,0 +1,299 @@
+// Trajectories (built-in routes, KITTI, RobotCar GPS), keyframe policy and the stereo camera.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "loopscan/sim/camera.hpp"
+#include "loopscan/sim/trajectory.hpp"
+#include "test_support.hpp"
+
+namespace loopscan::sim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+// Declares `var` as a file of the shared data folder; skips the test when it is absent.
+#define REQUIRE_SHARED_FILE(var, relative)                       \
+  const std::string var = test::shared_dir() + "/" + (relative); \
+  if (!std::filesystem::exists(var))                             \
+  GTEST_SKIP() << "shared data not found at '" << var            \
+               << "' (set LOOPSCAN_SHARED to the shared/ folder)"
+
+double yaw_between(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return std::abs(std::remainder(heading_yaw(a) - heading_yaw(b), 2 * kPi));
+}
+
+double max_yaw_jump(const Trajectory& t) {
+  double m = 0.0;
+  for (std::size_t i = 1; i < t.T_world_cam.size(); ++i) {
+    m = std::max(m, yaw_between(t.T_world_cam[i], t.T_world_cam[i - 1]));
+  }
+  return m;
+}
+
+void expect_level(const Trajectory& t) {
+  for (const Eigen::Isometry3d& T : t.T_world_cam) {
+    ASSERT_LT((T.linear().col(1) - Eigen::Vector3d::UnitY()).norm(), 1e-9);  // y stays down
+    ASSERT_LT((T.linear().transpose() * T.linear() - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+  }
+}
+
+// Length in range, ~1 m per frame without jumps, smooth heading, level camera along the motion.
+void expect_drivable(const Trajectory& t, double min_length_m, double max_length_m) {
+  const std::vector<Eigen::Vector3d> c = t.centres();
+  double length = 0.0;
+  for (std::size_t i = 1; i < c.size(); ++i) {
+    const Eigen::Vector3d step = c[i] - c[i - 1];
+    length += step.norm();
+    ASSERT_LT(step.norm(), 2.0) << "frame " << i;
+    ASSERT_GT(step.normalized().dot(t.T_world_cam[i].linear().col(2)), std::cos(10 * kDeg));
+  }
+  EXPECT_GT(length, min_length_m);
+  EXPECT_LT(length, max_length_m);
+  EXPECT_NEAR(length / static_cast<double>(c.size() - 1), 1.0, 0.1);
+  EXPECT_LT(max_yaw_jump(t), 15.0 * kDeg);
+  expect_level(t);
+}
+
+struct Revisits {
+  int pairs = 0;     // frame pairs >= min_gap apart and within the radius
+  int opposite = 0;  // those of them with headings more than 150 deg apart
+};
+
+Revisits find_revisits(const Trajectory& t, int min_gap = 100, double radius = 5.0) {
+  Revisits r;
+  const std::vector<Eigen::Vector3d> c = t.centres();
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    for (std::size_t j = i + min_gap; j < c.size(); ++j) {
+      if ((c[i] - c[j]).norm() > radius) continue;
+      ++r.pairs;
+      r.opposite += yaw_between(t.T_world_cam[i], t.T_world_cam[j]) > 150.0 * kDeg;
+    }
+  }
+  return r;
+}
+
+// Every keyframe triggers the policy against the previous one, and no frame in between does.
+void expect_policy_holds(const Trajectory& t, const std::vector<int>& kf,
+                         const KeyframeSelection& s) {
+  ASSERT_TRUE(!kf.empty() && kf.front() == 0);
+  auto triggers = [&](int a, int b) {
+    const double moved = (t.T_world_cam[b].translation() - t.T_world_cam[a].translation()).norm();
+    return moved > s.min_distance_m ||
+           rotation_angle(t.T_world_cam[a], t.T_world_cam[b]) > s.min_rotation_deg * kDeg;
+  };
+  const int n = static_cast<int>(t.T_world_cam.size());
+  for (std::size_t k = 0; k < kf.size(); ++k) {
+    const int next = k + 1 < kf.size() ? kf[k + 1] : n;
+    for (int i = kf[k] + 1; i < next; ++i) ASSERT_FALSE(triggers(kf[k], i)) << "frame " << i;
+    ASSERT_TRUE(next == n || triggers(kf[k], next)) << "keyframe " << next;
+  }
+}
+
+std::vector<Eigen::Matrix<double, 3, 4>> read_kitti_poses(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<Eigen::Matrix<double, 3, 4>> poses;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream row(line);
+    Eigen::Matrix<double, 3, 4> P;
+    for (int k = 0; k < 12; ++k) row >> P(k / 4, k % 4);
+    if (row) poses.push_back(P);
+  }
+  return poses;
+}
+
+TEST(SimTrajectory, CityLengthSpacingAndHeading) {
+  const Trajectory t = make_builtin_trajectory("city");
+  EXPECT_EQ(t.name, "city");
+  expect_drivable(t, 1800.0, 2400.0);
+}
+
+TEST(SimTrajectory, CityRevisitsIncludeOppositeDirection) {
+  const Revisits r = find_revisits(make_builtin_trajectory("city"));
+  EXPECT_GT(r.pairs, 200);
+  EXPECT_GT(r.opposite, 500);  // a whole street driven both ways, not just two corners
+}
+
+TEST(SimTrajectory, ShortRouteHasOneRevisit) {
+  const Trajectory t = make_builtin_trajectory("short");
+  expect_drivable(t, 300.0, 400.0);
+  EXPECT_GT(find_revisits(t).pairs, 20);
+}
+
+TEST(SimTrajectory, UnknownRouteNameListsBuiltins) {
+  try {
+    make_builtin_trajectory("nowhere");
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("city, short"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SimTrajectory, KeyframesOnCityFollowPolicy) {
+  const Trajectory t = make_builtin_trajectory("city");
+  const std::vector<int> kf = select_keyframes(t);
+  expect_policy_holds(t, kf, {});
+  // ~1 m per frame: every second frame on straights, every frame in the tighter turns.
+  EXPECT_GT(kf.size(), t.T_world_cam.size() / 2);
+  EXPECT_LT(kf.size(), t.T_world_cam.size() * 3 / 4);
+}
+
+TEST(SimTrajectory, Kitti06CentresAndKeyframes) {
+  REQUIRE_SHARED_FILE(path, "data/kitti/poses/06.txt");
+  const auto poses = read_kitti_poses(path);
+  ASSERT_EQ(poses.size(), 1101u);
+  const Trajectory t = trajectory_from_kitti(poses, "kitti06");
+  const std::vector<Eigen::Vector3d> c = t.centres();
+  ASSERT_EQ(c.size(), poses.size());
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    ASSERT_EQ(c[i], poses[i].col(3)) << "frame " << i;
+    ASSERT_EQ(t.T_world_cam[i].linear(), poses[i].leftCols<3>()) << "frame " << i;
+  }
+  // The real SO-DSO run kept 910 of 1101 frames.
+  const std::vector<int> kf = select_keyframes(t);
+  EXPECT_GE(kf.size(), 800u);
+  EXPECT_LE(kf.size(), 1050u);
+  expect_policy_holds(t, kf, {});
+  const KeyframeSelection loose{3.0, 15.0};  // a looser policy keeps far fewer
+  const std::vector<int> fewer = select_keyframes(t, loose);
+  EXPECT_LT(fewer.size(), kf.size() / 2);
+  expect_policy_holds(t, fewer, loose);
+}
+
+TEST(SimTrajectory, GpsStraightLineHeadingAndLevel) {
+  // 200 m along a bearing of 30 deg east of north, 0.5 m per row, with a stop (duplicates) in
+  // the middle and a slow climb; origin far from zero as in real UTM rows.
+  const double bearing = 30.0 * kDeg;
+  const Eigen::Vector3d origin(5735891.8, 620126.3, -108.8);
+  std::vector<Eigen::Vector3d> ned;
+  for (int i = 0; i <= 400; ++i) {
+    ned.insert(ned.end(), i == 200 ? 20 : 1,
+               origin + 0.5 * i * Eigen::Vector3d(std::cos(bearing), std::sin(bearing), -0.01));
+  }
+  const Trajectory t = trajectory_from_gps(ned, "line");
+  ASSERT_EQ(t.T_world_cam.size(), ned.size());
+  expect_level(t);
+  for (std::size_t i = 0; i < ned.size(); ++i) {
+    const Eigen::Vector3d d = ned[i] - origin;
+    ASSERT_LT((t.T_world_cam[i].translation() - Eigen::Vector3d(d.y(), d.z(), d.x())).norm(), 1e-9);
+    // Yaw about the down axis from north (+z) towards east (+x) equals the bearing.
+    ASSERT_NEAR(heading_yaw(t.T_world_cam[i]), bearing, 1e-6) << "frame " << i;
+  }
+  // x east, y down, z north is right-handed: the camera's right points east-south-east.
+  const Eigen::Vector3d right(std::cos(bearing), 0.0, -std::sin(bearing));
+  EXPECT_LT((t.T_world_cam[0].linear().col(0) - right).norm(), 1e-9);
+  ned[7].x() = std::nan("");
+  EXPECT_THROW(trajectory_from_gps(ned, "bad"), std::invalid_argument);
+  EXPECT_TRUE(trajectory_from_gps({}, "empty").T_world_cam.empty());
+}
+
+TEST(SimTrajectory, GpsHeadingIgnoresPositionJumps) {
+  // Northwards at 0.15 m per row with a 1.2 m eastward fix correction every 16 rows, as in the
+  // RobotCar INS tracks: the heading must stay north, not swing towards each jump.
+  std::vector<Eigen::Vector3d> ned;
+  Eigen::Vector3d p(100.0, 200.0, 0.0);
+  for (int i = 0; i < 600; ++i) {
+    p.x() += 0.15;
+    if (i % 16 == 15) p.y() += 1.2;
+    ned.push_back(p);
+  }
+  const Trajectory t = trajectory_from_gps(ned, "jumps");
+  for (std::size_t i = 0; i < ned.size(); ++i) {
+    ASSERT_NEAR(heading_yaw(t.T_world_cam[i]), 0.0, 1e-6) << "frame " << i;
+  }
+}
+
+TEST(SimTrajectory, RobotCarGpsLoadsWithContinuousHeading) {
+  REQUIRE_SHARED_FILE(path, "data/sodso/robotcar/2015-05-19-14-06-38/gps.txt");
+  std::ifstream in(path);
+  std::vector<Eigen::Vector3d> ned;
+  for (Eigen::Vector3d r; in >> r.x() >> r.y() >> r.z();) ned.push_back(r);
+  ASSERT_GT(ned.size(), 8000u);
+  const Trajectory t = trajectory_from_gps(ned, "robotcar");
+  ASSERT_EQ(t.T_world_cam.size(), ned.size());
+  for (const Eigen::Isometry3d& T : t.T_world_cam) ASSERT_TRUE(T.matrix().allFinite());
+  expect_level(t);
+  EXPECT_LT(max_yaw_jump(t), 15.0 * kDeg);
+  // Headings follow the horizontal motion over every ~5 m (loosely: the track has jumps).
+  std::vector<Eigen::Vector3d> c = t.centres();
+  for (Eigen::Vector3d& p : c) p.y() = 0.0;
+  int checked = 0;
+  for (std::size_t i = 0, j = 0; i < c.size(); i = j) {
+    for (j = i + 1; j < c.size() && (c[j] - c[i]).norm() < 5.0;) ++j;
+    if (j >= c.size()) break;
+    const Eigen::Vector3d motion = (c[j] - c[i]).normalized();
+    EXPECT_GT(motion.dot(t.T_world_cam[i].linear().col(2)), std::cos(45 * kDeg)) << "frame " << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 400);
+}
+
+TEST(SimTrajectory, StereoCameraReadsKittiYaml) {
+  REQUIRE_SHARED_FILE(path, "data/kitti/calib/KITTI04-12.yaml");
+  const StereoCamera c = StereoCamera::read_orbslam_yaml(path);
+  EXPECT_EQ(Eigen::Vector4d(c.fx, c.fy, c.cx, c.cy),
+            Eigen::Vector4d(707.0912, 707.0912, 601.8873, 183.1104));
+  EXPECT_EQ(Eigen::Vector3d(c.width, c.height, c.bf), Eigen::Vector3d(1241, 376, 379.8145));
+  EXPECT_NEAR(c.baseline(), 0.537, 0.001);
+}
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = (std::filesystem::temp_directory_path() / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string read_error(const std::string& path) {
+  try {
+    StereoCamera::read_orbslam_yaml(path);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(SimTrajectory, StereoCameraReportsMissingKeyAndBadValue) {
+  const std::string body =
+      "%YAML:1.0\n# comment\nCamera.fx: 700.5\nCamera.fy: 700.5\nCamera.cx: 600\n"
+      "Camera.cy: 180\nCamera.width: 1241\nCamera.height: 376\n";
+  const std::string missing = write_temp("loopscan_sim_camera_missing_bf.yaml", body);
+  const std::string what = read_error(missing);
+  EXPECT_NE(what.find("Camera.bf"), std::string::npos) << what;
+  EXPECT_NE(what.find(missing), std::string::npos) << what;
+  const std::string bad = write_temp("loopscan_sim_camera_bad_bf.yaml", body + "Camera.bf: 3x\n");
+  EXPECT_NE(read_error(bad).find(bad + ":9"), std::string::npos) << read_error(bad);
+  const std::string good = write_temp("loopscan_sim_camera_good.yaml", body + "Camera.bf: 380.0\n");
+  EXPECT_DOUBLE_EQ(StereoCamera::read_orbslam_yaml(good).bf, 380.0);
+  EXPECT_NE(read_error(missing + ".absent"), "(no error)");
+  for (const std::string& path : {missing, bad, good}) std::filesystem::remove(path);
+}
+
+TEST(SimTrajectory, StereoCameraProjectRayRoundTrip) {
+  StereoCamera cam;
+  cam.fy = 0.9 * cam.fx;  // non-square pixels catch swapped focal lengths
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, cam.width - 1.0), v(0.0, cam.height - 1.0),
+      depth(0.5, 80.0);
+  Eigen::Vector2d px;
+  for (int k = 0; k < 200; ++k) {
+    const Eigen::Vector2d pixel(u(rng), v(rng));
+    const Eigen::Vector3d r = cam.ray(pixel.x(), pixel.y());
+    ASSERT_NEAR(r.norm(), 1.0, 1e-12);
+    ASSERT_TRUE(cam.project(r * depth(rng), px));
+    ASSERT_LT((px - pixel).norm(), 1e-9);
+  }
+  EXPECT_TRUE(cam.project({0, 0, 10}, px));
+  EXPECT_NEAR(px.x(), cam.cx, 1e-12);
+  EXPECT_FALSE(cam.project({0, 0, -10}, px));   // behind
+  EXPECT_FALSE(cam.project({100, 0, 10}, px));  // right of the image
+  EXPECT_FALSE(cam.project({0, -50, 10}, px));  // above the image
+}
+
+}  // namespace
+}  // namespace loopscan::sim
