@@ -224,3 +224,29 @@ TEST(Cli, SimulateRejectsUnknownTrajectoryAndSeason) {
 
 }  // namespace
 }  // namespace loopscan
+
+namespace loopscan {
+namespace {
+
+std::string file_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+TEST(Cli, SimulateIsByteIdenticalForTheSameSeed) {
+  const fs::path d = temp_dir("simulate_twice");
+  for (const char* name : {"a", "b", "c"}) {
+    const std::string seed = std::string(name) == "c" ? "5" : "4";
+    ASSERT_EQ(run("simulate --trajectory builtin:short --season fall --seed " + seed + " --out " +
+                  (d / name).string())
+                  .code,
+              0);
+  }
+  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "gt.txt", "world.json"}) {
+    EXPECT_EQ(file_bytes(d / "a" / f), file_bytes(d / "b" / f)) << f;
+  }
+  EXPECT_NE(file_bytes(d / "a" / "pts_history_file.txt"), file_bytes(d / "c" / "pts_history_file.txt"));
+}
+
+}  // namespace
+}  // namespace loopscan

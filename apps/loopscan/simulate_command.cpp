@@ -11,6 +11,7 @@ namespace {
 struct SimulateArgs {
   std::string trajectory, vo_poses, season = "summer", out, calib;
   unsigned seed = 1, session = 0;
+  double gain = -1, gamma = -1;  // < 0: the season's default
   sim::VoSimConfig vo;
   std::vector<int> resets;
 };
@@ -25,6 +26,8 @@ void run_simulate(SimulateArgs a) {
   const sim::World world = sim::World::build(t.trajectory.centres(), wc);
   sim::Conditions conditions = sim::Conditions::for_season(sim::parse_season(a.season));
   conditions.session_seed = a.session != 0 ? a.session : a.seed;
+  if (a.gain >= 0) conditions.illumination_gain = a.gain;
+  if (a.gamma > 0) conditions.gamma = a.gamma;
   const sim::StereoCamera camera =
       a.calib.empty() ? sim::StereoCamera{} : sim::StereoCamera::read_orbslam_yaml(a.calib);
   a.vo.seed = a.seed * 7919u + conditions.session_seed;
@@ -50,6 +53,8 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--seed", a->seed, "world seed (the same world for every season)")
       ->capture_default_str();
   cmd->add_option("--session", a->session, "session seed: parked cars, VO noise (default: seed)");
+  cmd->add_option("--gain", a->gain, "illumination gain (default: the season's)");
+  cmd->add_option("--gamma", a->gamma, "illumination gamma (default: the season's)");
   cmd->add_option("--calib", a->calib, "ORB-SLAM2 KITTI yaml (default: KITTI 04-12 camera)");
   cmd->add_option("--points-per-keyframe", a->vo.points_per_keyframe)->capture_default_str();
   cmd->add_option("--disparity-sigma", a->vo.disparity_sigma_px, "stereo noise in px")

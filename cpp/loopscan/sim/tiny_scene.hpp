@@ -1,7 +1,7 @@
 #pragma once
 // A tiny deterministic street scene and its "VO output" (keyframe poses + points with gray
-// values), so that the demo and the tests run without any download. The full simulator
-// (seasons, occlusion, stereo noise model) is a separate, later module.
+// values) in a few lines: a fast fixture for pipeline tests. The full simulator (world.hpp,
+// vo_simulator.hpp) models occlusion, seasons and stereo noise.
 #include <cstdint>
 #include <vector>
 
