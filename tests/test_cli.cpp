@@ -202,9 +202,9 @@ TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
   std::ifstream(d / "sim" / "world.json") >> world;
   EXPECT_EQ(world["conditions"]["season"], "winter");
   EXPECT_TRUE(world.contains("world"));
-  const CliResult r2 = run("describe --method sc --poses " + (d / "sim/poses_history_file.txt").string() +
-                           " --points " + (d / "sim/pts_history_file.txt").string() + " --out " +
-                           (d / "sc").string());
+  const CliResult r2 = run(
+      "describe --method sc --poses " + (d / "sim/poses_history_file.txt").string() + " --points " +
+      (d / "sim/pts_history_file.txt").string() + " --out " + (d / "sc").string());
   ASSERT_EQ(r2.code, 0) << r2.output;
   const CliResult r3 = run("evaluate --method sc --signatures " + (d / "sc").string() + " --gt " +
                            (d / "sim/gt.txt").string() + " --out " + (d / "eval").string());
@@ -245,7 +245,8 @@ TEST(Cli, SimulateIsByteIdenticalForTheSameSeed) {
   for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "gt.txt", "world.json"}) {
     EXPECT_EQ(file_bytes(d / "a" / f), file_bytes(d / "b" / f)) << f;
   }
-  EXPECT_NE(file_bytes(d / "a" / "pts_history_file.txt"), file_bytes(d / "c" / "pts_history_file.txt"));
+  EXPECT_NE(file_bytes(d / "a" / "pts_history_file.txt"),
+            file_bytes(d / "c" / "pts_history_file.txt"));
 }
 
 }  // namespace

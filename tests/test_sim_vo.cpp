@@ -75,8 +75,8 @@ TEST(SimVo, EveryPointIsInFrontOfItsCameraAndInsideTheImage) {
   std::size_t next = 0;
   for (const KeyframePose& k : a.poses) {
     for (; next < a.points.size() && a.points[next].id == k.id; ++next) {
-      const Eigen::Vector3d p_cam = k.T_cam_world.leftCols<3>() * a.points[next].p_world +
-                                    k.T_cam_world.col(3);
+      const Eigen::Vector3d p_cam =
+          k.T_cam_world.leftCols<3>() * a.points[next].p_world + k.T_cam_world.col(3);
       Eigen::Vector2d px;
       ASSERT_GT(p_cam.z(), 0.0);
       ASSERT_TRUE(cam.project(p_cam, px)) << "point " << next << " of keyframe " << k.id;

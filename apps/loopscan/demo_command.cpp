@@ -65,7 +65,8 @@ void run_demo(const DemoArgs& a) {
     std::vector<Eigen::Vector3d> pos[2];
     for (int i = 0; i < 2; ++i) {
       sig[i] = describe_sequence(sessions[i].vo.poses, sessions[i].vo.points, options);
-      for (int id : sig[i].keyframe_ids) pos[i].push_back(route.trajectory.T_world_cam[id].translation());
+      for (int id : sig[i].keyframe_ids)
+        pos[i].push_back(route.trajectory.T_world_cam[id].translation());
     }
     mr.imitate_ms = sig[0].imitate_ms;
     mr.describe_ms = sig[0].describe_ms;
@@ -95,14 +96,16 @@ void run_demo(const DemoArgs& a) {
                 m.same.pr.f1_max, m.cross.pr.auc, m.cross.pr.recall_at_100_precision,
                 m.cross.pr.f1_max, m.imitate_ms, m.describe_ms, m.same.query_ms);
     table.push_back({{"method", method_name(m.method)},
-                     {"same_season", {{"auc", m.same.pr.auc},
-                                      {"recall_at_100_precision", m.same.pr.recall_at_100_precision},
-                                      {"f1_max", m.same.pr.f1_max},
-                                      {"n_gt_loops", m.same.pr.n_gt_loops}}},
-                     {"cross_season", {{"auc", m.cross.pr.auc},
-                                       {"recall_at_100_precision", m.cross.pr.recall_at_100_precision},
-                                       {"f1_max", m.cross.pr.f1_max},
-                                       {"n_gt_loops", m.cross.pr.n_gt_loops}}},
+                     {"same_season",
+                      {{"auc", m.same.pr.auc},
+                       {"recall_at_100_precision", m.same.pr.recall_at_100_precision},
+                       {"f1_max", m.same.pr.f1_max},
+                       {"n_gt_loops", m.same.pr.n_gt_loops}}},
+                     {"cross_season",
+                      {{"auc", m.cross.pr.auc},
+                       {"recall_at_100_precision", m.cross.pr.recall_at_100_precision},
+                       {"f1_max", m.cross.pr.f1_max},
+                       {"n_gt_loops", m.cross.pr.n_gt_loops}}},
                      {"imitate_ms", m.imitate_ms},
                      {"describe_ms", m.describe_ms},
                      {"query_ms", m.same.query_ms}});

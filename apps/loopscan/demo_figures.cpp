@@ -27,7 +27,8 @@ std::string pr_figure(const DemoResults& r, bool cross, const std::string& title
 // Route in gray; places recognised at 100% precision (Scan Context, winter vs summer) in red.
 std::string route_figure(const DemoResults& r) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  report::Series route{"route", {}, {}, "#999999"}, hits{"recognised at 100% precision", {}, {}, "#d62728"};
+  report::Series route{"route", {}, {}, "#999999"},
+      hits{"recognised at 100% precision", {}, {}, "#d62728"};
   for (const Eigen::Isometry3d& T : r.route->T_world_cam) {
     route.x.push_back(T.translation().x());
     route.y.push_back(T.translation().z());
@@ -117,18 +118,20 @@ report::HtmlPage demo_page(const DemoResults& r) {
       "mode, one exact difference-matrix row per query.");
   report::Table t;
   t.caption = "Accuracy and run time (ms per keyframe / per query, one thread)";
-  t.header = {"method",        "AUC same", "R@100P same", "F1 same",   "AUC cross",
-              "R@100P cross",  "F1 cross", "imitate ms", "describe ms", "query ms"};
+  t.header = {"method",       "AUC same", "R@100P same", "F1 same",     "AUC cross",
+              "R@100P cross", "F1 cross", "imitate ms",  "describe ms", "query ms"};
   for (const MethodResult& m : r.methods) {
     t.rows.push_back({method_name(m.method), fixed(m.same.pr.auc, 4),
                       fixed(m.same.pr.recall_at_100_precision, 4), fixed(m.same.pr.f1_max, 4),
                       fixed(m.cross.pr.auc, 4), fixed(m.cross.pr.recall_at_100_precision, 4),
-                      fixed(m.cross.pr.f1_max, 4), fixed(m.imitate_ms, 3),
-                      fixed(m.describe_ms, 3), fixed(m.same.query_ms, 3)});
+                      fixed(m.cross.pr.f1_max, 4), fixed(m.imitate_ms, 3), fixed(m.describe_ms, 3),
+                      fixed(m.same.query_ms, 3)});
   }
   page.tables.push_back(t);
-  page.figures.push_back({"Precision-recall, summer vs summer", pr_figure(r, false, "Same season")});
-  page.figures.push_back({"Precision-recall, winter vs summer", pr_figure(r, true, "Cross season")});
+  page.figures.push_back(
+      {"Precision-recall, summer vs summer", pr_figure(r, false, "Same season")});
+  page.figures.push_back(
+      {"Precision-recall, winter vs summer", pr_figure(r, true, "Cross season")});
   page.figures.push_back({"Route and recognised places", route_figure(r)});
   page.figures.push_back({"One imitated scan", scan_figure(r.example)});
   page.figures.push_back({"Its Scan Context", scan_context_figure(r.example)});

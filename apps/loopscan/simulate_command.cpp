@@ -44,7 +44,8 @@ void run_simulate(SimulateArgs a) {
 
 void add_simulate_command(CLI::App& app) {
   auto a = std::make_shared<SimulateArgs>();
-  CLI::App* cmd = app.add_subcommand("simulate", "Simulate a stereo VO's output in a synthetic world");
+  CLI::App* cmd =
+      app.add_subcommand("simulate", "Simulate a stereo VO's output in a synthetic world");
   cmd->add_option("--trajectory", a->trajectory,
                   "builtin:city | builtin:short | kitti:FILE | robotcar:FILE")
       ->required();

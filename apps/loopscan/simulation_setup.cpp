@@ -11,7 +11,8 @@ namespace loopscan::cli {
 
 LoadedTrajectory load_trajectory(const std::string& spec) {
   const auto colon = spec.find(':');
-  const std::string kind = spec.substr(0, colon), arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  const std::string kind = spec.substr(0, colon),
+                    arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
   LoadedTrajectory t;
   if (kind == "builtin") {
     t.trajectory = sim::make_builtin_trajectory(arg);
@@ -46,37 +47,41 @@ Session simulate_session(const LoadedTrajectory& t, const sim::World& world,
     }
   }
   s.vo = sim::simulate_vo(t.trajectory, s.keyframe_ids, world, conditions, camera, vo, vo_poses);
-  s.parameters = {
-      {"world", world.parameters()},
-      {"conditions",
-       {{"season", sim::season_name(conditions.season)},
-        {"illumination_gain", conditions.illumination_gain},
-        {"gamma", conditions.gamma},
-        {"session_seed", conditions.session_seed}}},
-      {"camera",
-       {{"fx", camera.fx}, {"fy", camera.fy}, {"cx", camera.cx}, {"cy", camera.cy},
-        {"width", camera.width}, {"height", camera.height}, {"bf", camera.bf}}},
-      {"vo",
-       {{"points_per_keyframe", vo.points_per_keyframe},
-        {"max_rays_per_keyframe", vo.max_rays_per_keyframe},
-        {"min_depth_m", vo.min_depth_m},
-        {"max_depth_m", vo.max_depth_m},
-        {"disparity_sigma_px", vo.disparity_sigma_px},
-        {"gradient_threshold", vo.gradient_threshold},
-        {"gray_noise", vo.gray_noise},
-        {"drift_translation_per_m", vo.drift_translation_per_m},
-        {"drift_rotation_deg_per_m", vo.drift_rotation_deg_per_m},
-        {"reset_keyframe_ids", vo.reset_keyframe_ids},
-        {"seed", vo.seed},
-        {"external_vo_poses", !vo_poses.empty()}}},
-      {"trajectory",
-       {{"name", t.trajectory.name},
-        {"frames", t.trajectory.T_world_cam.size()},
-        {"keyframes", s.keyframe_ids.size()}}},
-      {"result",
-       {{"points", s.vo.points.size()},
-        {"mean_points_per_keyframe", s.vo.mean_points_per_keyframe},
-        {"mean_rays_per_keyframe", s.vo.mean_rays_per_keyframe}}}};
+  s.parameters = {{"world", world.parameters()},
+                  {"conditions",
+                   {{"season", sim::season_name(conditions.season)},
+                    {"illumination_gain", conditions.illumination_gain},
+                    {"gamma", conditions.gamma},
+                    {"session_seed", conditions.session_seed}}},
+                  {"camera",
+                   {{"fx", camera.fx},
+                    {"fy", camera.fy},
+                    {"cx", camera.cx},
+                    {"cy", camera.cy},
+                    {"width", camera.width},
+                    {"height", camera.height},
+                    {"bf", camera.bf}}},
+                  {"vo",
+                   {{"points_per_keyframe", vo.points_per_keyframe},
+                    {"max_rays_per_keyframe", vo.max_rays_per_keyframe},
+                    {"min_depth_m", vo.min_depth_m},
+                    {"max_depth_m", vo.max_depth_m},
+                    {"disparity_sigma_px", vo.disparity_sigma_px},
+                    {"gradient_threshold", vo.gradient_threshold},
+                    {"gray_noise", vo.gray_noise},
+                    {"drift_translation_per_m", vo.drift_translation_per_m},
+                    {"drift_rotation_deg_per_m", vo.drift_rotation_deg_per_m},
+                    {"reset_keyframe_ids", vo.reset_keyframe_ids},
+                    {"seed", vo.seed},
+                    {"external_vo_poses", !vo_poses.empty()}}},
+                  {"trajectory",
+                   {{"name", t.trajectory.name},
+                    {"frames", t.trajectory.T_world_cam.size()},
+                    {"keyframes", s.keyframe_ids.size()}}},
+                  {"result",
+                   {{"points", s.vo.points.size()},
+                    {"mean_points_per_keyframe", s.vo.mean_points_per_keyframe},
+                    {"mean_rays_per_keyframe", s.vo.mean_rays_per_keyframe}}}};
   return s;
 }
 
@@ -88,7 +93,8 @@ void write_session(const std::string& dir, const LoadedTrajectory& t, const Sess
     io::write_gps(dir + "/gt.txt", t.gps_rows);
   } else {
     std::vector<Eigen::Matrix<double, 3, 4>> gt;
-    for (const Eigen::Isometry3d& T : t.trajectory.T_world_cam) gt.push_back(T.matrix().topRows<3>());
+    for (const Eigen::Isometry3d& T : t.trajectory.T_world_cam)
+      gt.push_back(T.matrix().topRows<3>());
     io::write_kitti_poses(dir + "/gt.txt", gt);
   }
   io::write_file_atomic(dir + "/world.json", s.parameters.dump(1) + "\n");

@@ -23,7 +23,8 @@ struct PlaceEvaluationOptions {
 struct PlaceEvaluation {
   std::vector<QueryMatch> matches;  // one per query
   PrResult pr;
-  double query_ms = 0;  // mean time of one difference-matrix row (all components, fused), per thread
+  double query_ms =
+      0;  // mean time of one difference-matrix row (all components, fused), per thread
 };
 
 PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,

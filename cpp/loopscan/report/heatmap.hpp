@@ -8,7 +8,6 @@
 namespace loopscan::report {
 
 std::string heatmap_svg(const Eigen::MatrixXd& values, const std::string& title,
-                        const std::string& x_label, const std::string& y_label,
-                        int cell_px = 10);
+                        const std::string& x_label, const std::string& y_label, int cell_px = 10);
 
 }  // namespace loopscan::report

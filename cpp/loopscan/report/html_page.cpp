@@ -26,7 +26,8 @@ std::string render_html(const HtmlPage& page) {
     html += "</table>\n";
   }
   for (const Figure& f : page.figures) {
-    html += "<figure>\n" + f.svg + "<figcaption>" + xml_escape(f.caption) + "</figcaption>\n</figure>\n";
+    html += "<figure>\n" + f.svg + "<figcaption>" + xml_escape(f.caption) +
+            "</figcaption>\n</figure>\n";
   }
   html += "</body>\n</html>\n";
   return html;

@@ -21,8 +21,7 @@ std::vector<Eigen::Isometry3d> drifting_poses(const Trajectory& gt, const std::v
       out.push_back(Eigen::Isometry3d::Identity());
       continue;
     }
-    const Eigen::Isometry3d rel =
-        gt.T_world_cam[ids[k - 1]].inverse() * gt.T_world_cam[ids[k]];
+    const Eigen::Isometry3d rel = gt.T_world_cam[ids[k - 1]].inverse() * gt.T_world_cam[ids[k]];
     const double dist = rel.translation().norm();
     const double st = c.drift_translation_per_m * dist;
     const double sr = c.drift_rotation_deg_per_m * M_PI / 180.0 * dist;
@@ -44,9 +43,9 @@ double noisy_stereo_depth(double depth, double bf, double sigma, double standard
   return disparity > 0.0 ? bf / disparity : -1.0;
 }
 
-VoOutput simulate_vo(const Trajectory& gt, const std::vector<int>& keyframe_ids,
-                     const World& world, const Conditions& conditions, const StereoCamera& cam,
-                     const VoSimConfig& c, const std::vector<KeyframePose>& vo_poses) {
+VoOutput simulate_vo(const Trajectory& gt, const std::vector<int>& keyframe_ids, const World& world,
+                     const Conditions& conditions, const StereoCamera& cam, const VoSimConfig& c,
+                     const std::vector<KeyframePose>& vo_poses) {
   if (!vo_poses.empty() && vo_poses.size() != keyframe_ids.size()) {
     throw std::invalid_argument("simulate_vo: one VO pose per keyframe expected");
   }
@@ -85,7 +84,8 @@ VoOutput simulate_vo(const Trajectory& gt, const std::vector<int>& keyframe_ids,
       const double px = u01(rng) * cam.width - 0.5, py = u01(rng) * cam.height - 0.5;
       const Eigen::Vector3d ray_cam = cam.ray(px, py);
       const Eigen::Vector3d ray_world = T_world_cam.linear() * ray_cam;
-      const auto hit = world.raycast(T_world_cam.translation(), ray_world, c.max_depth_m / std::max(ray_cam.z(), 1e-6), conditions);
+      const auto hit = world.raycast(T_world_cam.translation(), ray_world,
+                                     c.max_depth_m / std::max(ray_cam.z(), 1e-6), conditions);
       const double accept_draw = u01(rng), noise_draw = n01(rng), gray_draw = n01(rng);
       if (!hit) continue;
       const double depth = hit->distance * ray_cam.z();  // z in the camera frame
@@ -93,10 +93,12 @@ VoOutput simulate_vo(const Trajectory& gt, const std::vector<int>& keyframe_ids,
       const double image_gradient = hit->texture_gradient * depth / cam.fx;
       if (accept_draw >= std::min(1.0, image_gradient / c.gradient_threshold)) continue;
       // Stereo: depth from disparity bf / z, disparity noise -> depth noise ~ z^2.
-      const double noisy_depth = noisy_stereo_depth(depth, cam.bf, c.disparity_sigma_px, noise_draw);
+      const double noisy_depth =
+          noisy_stereo_depth(depth, cam.bf, c.disparity_sigma_px, noise_draw);
       if (noisy_depth <= 0.0 || noisy_depth > c.max_depth_m) continue;
       const Eigen::Vector3d p_cam = ray_cam * (noisy_depth / ray_cam.z());
-      const double gray = std::clamp(World::gray(*hit, conditions) + c.gray_noise * gray_draw, 0.0, 255.0);
+      const double gray =
+          std::clamp(World::gray(*hit, conditions) + c.gray_noise * gray_draw, 0.0, 255.0);
       out.points.push_back({id, T_vo_cam * p_cam, static_cast<float>(std::round(gray * 10) / 10)});
       ++accepted;
     }

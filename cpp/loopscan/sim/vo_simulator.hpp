@@ -47,8 +47,8 @@ double noisy_stereo_depth(double depth, double bf, double disparity_sigma_px,
 // Simulates the VO along `gt` at the given keyframes. If `vo_poses_T_cam_world` is non-empty it
 // must have one world-to-camera pose per keyframe (e.g. a real SO-DSO run on the same frames):
 // points are then expressed through those poses instead of simulated drift.
-VoOutput simulate_vo(const Trajectory& gt, const std::vector<int>& keyframe_ids,
-                     const World& world, const Conditions& conditions, const StereoCamera& camera,
+VoOutput simulate_vo(const Trajectory& gt, const std::vector<int>& keyframe_ids, const World& world,
+                     const Conditions& conditions, const StereoCamera& camera,
                      const VoSimConfig& config,
                      const std::vector<KeyframePose>& vo_poses_T_cam_world = {});
 
