@@ -1,8 +1,9 @@
 #include "loopscan/core/describe_sequence.hpp"
 
+#include "loopscan/core/parallel.hpp"
+
 #include <algorithm>
 #include <chrono>
-#include <thread>
 
 namespace loopscan {
 namespace {
@@ -41,10 +42,7 @@ double describe_batch(const std::vector<Cloud>& scans, const SequenceOptions& op
       ms[t] += ms_since(t0);
     }
   };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (std::thread& th : pool) th.join();
+  run_on_threads(threads, work);
   double total = 0;
   for (double m : ms) total += m;
   return total;

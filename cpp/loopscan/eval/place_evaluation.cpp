@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <thread>
 
+#include "loopscan/core/parallel.hpp"
 #include "loopscan/eval/best_match.hpp"
 
 namespace loopscan::eval {
@@ -34,10 +34,7 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
                                   options.protocol.mask_width);
     }
   };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work, t);
-  work(0);
-  for (std::thread& th : pool) th.join();
+  run_on_threads(threads, work);
   double total_ms = 0;
   for (double ms : thread_ms) total_ms += ms;
   out.query_ms = queries.empty() ? 0.0 : total_ms / static_cast<double>(queries.size());
