@@ -74,15 +74,23 @@ double facade_albedo(const FacadeStyle& s, double u, double v, double face_width
   return clamp01(a);
 }
 
+namespace {
+
+// base + coarse fBm + fine value noise: the shared shape of the horizontal-surface textures.
+double layered_albedo(std::uint32_t salt, double x, double z, double base, double coarse_amp,
+                      double coarse_freq, int octaves, double fine_amp, double fine_freq) {
+  return clamp01(base + coarse_amp * (fbm2(coarse_freq * x, coarse_freq * z, salt, octaves) - 0.5) +
+                 fine_amp * (value_noise2(fine_freq * x, fine_freq * z, salt + 1) - 0.5));
+}
+
+}  // namespace
+
 double roof_albedo(std::uint32_t salt, double x, double z) {
-  return clamp01(0.3 + 0.14 * (fbm2(0.4 * x, 0.4 * z, salt, 2) - 0.5) +
-                 0.06 * (value_noise2(4.0 * x, 4.0 * z, salt + 1) - 0.5));
+  return layered_albedo(salt, x, z, 0.3, 0.14, 0.4, 2, 0.06, 4.0);
 }
 
 double road_albedo(std::uint32_t salt, double x, double z) {
-  // Dark asphalt, deliberately low texture.
-  return clamp01(0.16 + 0.05 * (fbm2(0.3 * x, 0.3 * z, salt, 2) - 0.5) +
-                 0.025 * (value_noise2(6.0 * x, 6.0 * z, salt + 1) - 0.5));
+  return layered_albedo(salt, x, z, 0.16, 0.05, 0.3, 2, 0.025, 6.0);  // dark, low texture
 }
 
 double sidewalk_albedo(std::uint32_t salt, double x, double z) {
@@ -97,14 +105,11 @@ double sidewalk_albedo(std::uint32_t salt, double x, double z) {
 }
 
 double grass_albedo(std::uint32_t salt, double x, double z) {
-  return clamp01(0.26 + 0.16 * (fbm2(0.4 * x, 0.4 * z, salt, 3) - 0.5) +
-                 0.08 * (value_noise2(5.0 * x, 5.0 * z, salt + 1) - 0.5));
+  return layered_albedo(salt, x, z, 0.26, 0.16, 0.4, 3, 0.08, 5.0);
 }
 
 double snow_albedo(std::uint32_t salt, double x, double z) {
-  // Snow hides the texture below: bright, nearly uniform.
-  return clamp01(0.9 + 0.03 * (fbm2(0.2 * x, 0.2 * z, salt, 2) - 0.5) +
-                 0.01 * (value_noise2(3.0 * x, 3.0 * z, salt + 1) - 0.5));
+  return layered_albedo(salt, x, z, 0.9, 0.03, 0.2, 2, 0.01, 3.0);  // snow hides the texture
 }
 
 double bark_albedo(std::uint32_t salt, double base, double u, double v) {
