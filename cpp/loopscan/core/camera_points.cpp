@@ -86,6 +86,26 @@ LOOPSCAN_AVX2 void keys_avx2(const KeyArgs& a) { compute_keys<32>(a); }
 
 }  // namespace
 
+CameraPoints to_camera_points(const Cloud& cloud) {
+  CameraPoints out;
+  out.resize(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    out.x[i] = static_cast<float>(cloud[i].p.x());
+    out.y[i] = static_cast<float>(cloud[i].p.y());
+    out.z[i] = static_cast<float>(cloud[i].p.z());
+    out.gray[i] = cloud[i].intensity;
+  }
+  return out;
+}
+
+Cloud to_cloud(const CameraPoints& p) {
+  Cloud out(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    out[i] = {Eigen::Vector3d(p.x[i], p.y[i], p.z[i]), p.gray[i]};
+  }
+  return out;
+}
+
 Cloud filter_camera_points(const CameraPoints& p, ScanFilter filter, const ImitationConfig& c) {
   const std::size_t n = p.size();
   thread_local std::vector<std::uint32_t> keys;

@@ -18,6 +18,10 @@ struct CameraPoints {
   }
 };
 
+// Conversions between the two layouts (double <-> float coordinates).
+CameraPoints to_camera_points(const Cloud& cloud);
+Cloud to_cloud(const CameraPoints& points);
+
 // Default-mode filter on the float SoA scan: the same cells and keep rules as
 // cartesian_filter / polar_filter (keys from the float coordinates, exact at every boundary),
 // output ordered by cell.

@@ -3,8 +3,7 @@
 #include <cmath>
 #include <unordered_map>
 
-#include "loopscan/core/cell_select.hpp"
-#include "loopscan/core/fast_angle.hpp"
+#include "loopscan/core/camera_points.hpp"
 
 namespace loopscan {
 namespace {
@@ -30,21 +29,6 @@ Cloud keep_one_per_cell_reference(const Cloud& in, KeyFn key_of, BetterFn better
   return out;
 }
 
-// Default path: keys and scores in one tight loop, then a radix sort picks the best per cell.
-template <typename KeyScoreFn>
-Cloud keep_one_per_cell_fast(const Cloud& in, std::uint32_t max_key, KeyScoreFn key_score) {
-  thread_local std::vector<std::uint32_t> keys;
-  thread_local std::vector<double> scores;
-  thread_local std::vector<int> kept;
-  keys.resize(in.size());
-  scores.resize(in.size());
-  for (std::size_t i = 0; i < in.size(); ++i) keys[i] = key_score(in[i], scores[i]);
-  best_per_cell(keys, scores, max_key, kept);
-  Cloud out(kept.size());
-  for (std::size_t i = 0; i < kept.size(); ++i) out[i] = in[kept[i]];
-  return out;
-}
-
 }  // namespace
 
 Cloud cartesian_filter(const Cloud& in, double range_m, int divisions_xz, int divisions_y,
@@ -64,16 +48,11 @@ Cloud cartesian_filter(const Cloud& in, double range_m, int divisions_xz, int di
     auto higher = [](const PointI& a, const PointI& b) { return -b.p.y() < -a.p.y(); };
     return keep_one_per_cell_reference(in, key, higher);
   }
-  // In range |coordinate| < r, so the shifted values are positive and truncation is floor.
-  // Score y: the highest point (y points down) has the smallest score.
-  const auto max_key = static_cast<std::uint32_t>(nx * ny * nx - 1);
-  return keep_one_per_cell_fast(in, max_key, [&](const PointI& q, double& score) {
-    const int xi = static_cast<int>((q.p.x() + range_m) * step_xz);
-    const int yi = static_cast<int>((q.p.y() + range_m) * step_y);
-    const int zi = static_cast<int>((q.p.z() + range_m) * step_xz);
-    score = q.p.y();
-    return static_cast<std::uint32_t>(xi + yi * nx + zi * nx * ny);
-  });
+  ImitationConfig config;
+  config.range_m = range_m;
+  config.voxel_divisions_xz = divisions_xz;
+  config.voxel_divisions_y = divisions_y;
+  return filter_camera_points(to_camera_points(in), ScanFilter::Cartesian, config);
 }
 
 Cloud polar_filter(const Cloud& in, double resolution_deg, Mode mode) {
@@ -89,22 +68,9 @@ Cloud polar_filter(const Cloud& in, double resolution_deg, Mode mode) {
     auto closer = [](const PointI& a, const PointI& b) { return b.p.norm() > a.p.norm(); };
     return keep_one_per_cell_reference(in, key, closer);
   }
-  // Score: squared distance, the closest point wins.
-  thread_local AngleBinner azimuth(0, 0), elevation(0, 0);
-  thread_local double binner_inv = 0;
-  if (binner_inv != inv) {
-    azimuth = AngleBinner(inv, M_PI);
-    elevation = AngleBinner(inv, M_PI / 2);
-    binner_inv = inv;
-  }
-  const int elevation_bins = static_cast<int>(std::floor(M_PI * inv) + 1);
-  const auto max_key = static_cast<std::uint32_t>(azimuth_bins * elevation_bins - 1);
-  return keep_one_per_cell_fast(in, max_key, [&](const PointI& q, double& score) {
-    const double x = q.p.x(), y = q.p.y(), z = q.p.z();
-    const double xz2 = x * x + z * z;
-    score = xz2 + y * y;
-    return static_cast<std::uint32_t>(azimuth(z, x) + elevation(y, std::sqrt(xz2)) * azimuth_bins);
-  });
+  ImitationConfig config;
+  config.polar_resolution_deg = resolution_deg;
+  return filter_camera_points(to_camera_points(in), ScanFilter::Polar, config);
 }
 
 }  // namespace loopscan

@@ -6,8 +6,9 @@ namespace loopscan {
 
 // Cartesian voxel grid (origin (-r,-r,-r), voxel r/nx x r/ny x r/nz): keeps the HIGHEST point
 // (smallest y: y points down) of each voxel, the first one on ties.
-// Reference mode reproduces the authors' output order (libstdc++ unordered_map iteration);
-// default mode outputs voxels in order of first occurrence (deterministic, faster).
+// Reference mode: the authors' double-precision filter and output order (libstdc++
+// unordered_map iteration). Default mode: the single-precision path of camera_points.hpp (the
+// one `describe` uses), voxels in order of first occurrence.
 Cloud cartesian_filter(const Cloud& in, double range_m, int divisions_xz, int divisions_y,
                        Mode mode);
 

@@ -67,10 +67,7 @@ bool ScanImitator::add_keyframe(const KeyframePose& keyframe, const IdPoint* poi
   }
   thread_local CameraPoints fast;
   crop_fast(keyframe, fast);
-  in_range.resize(fast.size());
-  for (std::size_t i = 0; i < fast.size(); ++i) {
-    in_range[i] = {Eigen::Vector3d(fast.x[i], fast.y[i], fast.z[i]), fast.gray[i]};
-  }
+  in_range = to_cloud(fast);
   return true;
 }
 
@@ -81,15 +78,9 @@ bool ScanImitator::add_keyframe(const KeyframePose& keyframe, const IdPoint* poi
     crop_fast(keyframe, in_range);
     return true;
   }
-  thread_local Cloud cloud;
+  Cloud cloud;
   crop_reference(keyframe, cloud);
-  in_range.resize(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    in_range.x[i] = static_cast<float>(cloud[i].p.x());
-    in_range.y[i] = static_cast<float>(cloud[i].p.y());
-    in_range.z[i] = static_cast<float>(cloud[i].p.z());
-    in_range.gray[i] = cloud[i].intensity;
-  }
+  in_range = to_camera_points(cloud);
   return true;
 }
 
