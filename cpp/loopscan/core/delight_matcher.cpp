@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "loopscan/core/delight_packed.hpp"
 #include "loopscan/core/pair_distance.hpp"
 #include "loopscan/core/place_matcher.hpp"
 #include "loopscan/core/simd.hpp"
@@ -15,7 +16,7 @@
 namespace loopscan {
 namespace {
 
-constexpr int kRegions = 16;
+constexpr int kRegions = kDelightRegions;
 
 // Sums of a b / (a + b) and of [a b > 0] over the bins of the 16 region pairs (r, r ^ mask),
 // for the four masks. a, b: [region][bin] with `bins` a multiple of the chunk.
@@ -132,12 +133,35 @@ void kernel_avx2(const float* a, const float* b, int bins, double* shared, doubl
 }
 #endif
 
+// Distance from the shared sums of the four region masks (see the top of the file).
+double distance_from_shared(const DelightTotals& ta, const DelightTotals& tb,
+                            const double* shared, const double* overlap) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int m = 0; m < 4; ++m) {
+    const double used = ta.nonzero + tb.nonzero - overlap[m];
+    const double sum = 2.0 * (ta.sum + tb.sum) - 8.0 * shared[m];
+    best = std::min(best, used > 0 ? sum / used : 0.0);
+  }
+  return best;
+}
+
+template <typename T>
+DelightTotals pack_histograms(const Signature& place, int bins, T* out) {
+  DelightTotals t;
+  for (int r = 0; r < kRegions; ++r) {
+    for (Eigen::Index bin = 0; bin < place.cols(); ++bin) {
+      const double v = place(r, bin);
+      out[r * bins + bin] = static_cast<T>(v);
+      t.sum += v;
+      t.nonzero += v > 0;
+    }
+  }
+  return t;
+}
+
 template <typename T>
 class DelightMatcher final : public PlaceMatcher {
-  struct Totals {
-    double sum = 0;
-    double nonzero = 0;
-  };
+  using Totals = DelightTotals;
 
  public:
   DelightMatcher() {
@@ -149,7 +173,7 @@ class DelightMatcher final : public PlaceMatcher {
   void add(const Signature& place) override {
     if (n_ == 0) {
       const int kL = simd::kChunkLanes<T>;
-      bins_ = static_cast<int>((place.cols() + kL - 1) / kL * kL);
+      bins_ = static_cast<int>((place.cols() + kL - 1) / kL * kL);  // 8 for float
     }
     hist_.resize(hist_.size() + static_cast<std::size_t>(kRegions) * bins_, T(0));
     totals_.push_back(pack(place, &hist_[n_ * kRegions * bins_]));
@@ -166,29 +190,12 @@ class DelightMatcher final : public PlaceMatcher {
     double shared[4], overlap[4];
     for (std::size_t j = 0; j < n_; ++j) {
       kernel_(q.data(), &hist_[j * kRegions * bins_], bins_, shared, overlap);
-      double best = std::numeric_limits<double>::infinity();
-      for (int m = 0; m < 4; ++m) {
-        const double used = tq.nonzero + totals_[j].nonzero - overlap[m];
-        const double sum = 2.0 * (tq.sum + totals_[j].sum) - 8.0 * shared[m];
-        best = std::min(best, used > 0 ? sum / used : 0.0);
-      }
-      rows(0, static_cast<Eigen::Index>(j)) = best;
+      rows(0, static_cast<Eigen::Index>(j)) = distance_from_shared(tq, totals_[j], shared, overlap);
     }
   }
 
  private:
-  Totals pack(const Signature& place, T* out) const {
-    Totals t;
-    for (int r = 0; r < kRegions; ++r) {
-      for (Eigen::Index bin = 0; bin < place.cols(); ++bin) {
-        const double v = place(r, bin);
-        out[r * bins_ + bin] = static_cast<T>(v);
-        t.sum += v;
-        t.nonzero += v > 0;
-      }
-    }
-    return t;
-  }
+  Totals pack(const Signature& place, T* out) const { return pack_histograms(place, bins_, out); }
 
   int bins_ = 0;
   std::size_t n_ = 0;
@@ -198,6 +205,22 @@ class DelightMatcher final : public PlaceMatcher {
 };
 
 }  // namespace
+
+int delight_padded_bins(int columns) { return (columns + 7) / 8 * 8; }
+
+DelightTotals delight_pack(const Signature& place, int padded_bins, float* out) {
+  std::fill(out, out + static_cast<std::size_t>(kRegions) * padded_bins, 0.f);
+  return pack_histograms(place, padded_bins, out);
+}
+
+double delight_packed_distance(const float* a, const DelightTotals& ta, const float* b,
+                               const DelightTotals& tb, int padded_bins) {
+  static const auto kernel = simd::has_avx2() ? static_cast<void (*)(const float*, const float*, int, double*, double*)>(kernel_avx2)
+                                              : static_cast<void (*)(const float*, const float*, int, double*, double*)>(kernel_base);
+  double shared[4], overlap[4];
+  kernel(a, b, padded_bins, shared, overlap);
+  return distance_from_shared(ta, tb, shared, overlap);
+}
 
 std::unique_ptr<PlaceMatcher> make_delight_matcher(Precision precision) {
   if (precision == Precision::Float) return std::make_unique<DelightMatcher<float>>();

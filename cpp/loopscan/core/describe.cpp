@@ -13,10 +13,12 @@ DescriptorConfig DescriptorConfig::for_mode(Mode mode, double range_m) {
   return c;
 }
 
-Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config) {
+Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config,
+                   Eigen::Matrix3d* frame) {
+  if (frame) frame->setIdentity();
   switch (method) {
     case Method::ScanContext:
-      return scan_context_signature(scan, config.scan_context);
+      return scan_context_signature(scan, config.scan_context, frame);
     case Method::M2dp:
       return m2dp_signature(scan, config.m2dp);
     case Method::Delight:

@@ -13,7 +13,10 @@ struct DescriptorConfig {
   static DescriptorConfig for_mode(Mode mode, double range_m = 45.0);
 };
 
-// Signature of one imitated (filtered, camera-frame) scan.
-Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config);
+// Signature of one imitated (filtered, camera-frame) scan. `frame` (optional) receives the
+// descriptor's axes in the camera frame for Scan Context (PCA basis, rows = axes), the
+// identity for the others; the database turns sector shifts into yaw with it.
+Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config,
+                   Eigen::Matrix3d* frame = nullptr);
 
 }  // namespace loopscan

@@ -32,13 +32,13 @@ namespace {
 
 // Describes scans[i] into out[i], on `threads` threads; returns the summed milliseconds.
 double describe_batch(const std::vector<Cloud>& scans, const SequenceOptions& options,
-                      std::vector<Signature>& out) {
+                      std::vector<Signature>& out, std::vector<Eigen::Matrix3d>& frames) {
   const int threads = std::max(1, std::min<int>(options.threads, static_cast<int>(scans.size())));
   std::vector<double> ms(threads, 0.0);
   auto work = [&](int t) {
     for (std::size_t i = t; i < scans.size(); i += threads) {
       const auto t0 = std::chrono::steady_clock::now();
-      out[i] = describe(options.method, scans[i], options.descriptors);
+      out[i] = describe(options.method, scans[i], options.descriptors, &frames[i]);
       ms[t] += ms_since(t0);
     }
   };
@@ -65,8 +65,10 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
   const std::size_t batch_size = options.threads > 1 ? 16 * options.threads : 1;
   auto flush = [&] {
     std::vector<Signature> sigs(batch.size());
-    out.describe_ms += describe_batch(batch, options, sigs);
+    std::vector<Eigen::Matrix3d> frames(batch.size());
+    out.describe_ms += describe_batch(batch, options, sigs, frames);
     for (Signature& s : sigs) out.signatures.push_back(std::move(s));
+    out.frames.insert(out.frames.end(), frames.begin(), frames.end());
     batch.clear();
   };
   std::size_t next_point = 0;

@@ -22,6 +22,7 @@ struct SequenceOptions {
 struct SequenceSignatures {
   std::vector<int> keyframe_ids;  // one per signature
   std::vector<Signature> signatures;
+  std::vector<Eigen::Matrix3d> frames;  // descriptor axes in the camera frame (see describe)
   double imitate_ms = 0;   // mean per described keyframe: crop + filter
   double describe_ms = 0;  // mean per described keyframe (CPU time of one thread)
   double mean_in_range = 0, mean_filtered = 0;  // points per scan

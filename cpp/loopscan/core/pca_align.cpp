@@ -5,7 +5,7 @@
 namespace loopscan {
 namespace {
 
-Cloud pca_align_reference(const Cloud& cloud) {
+Cloud pca_align_reference(const Cloud& cloud, Eigen::Matrix3d* to_aligned) {
   const Eigen::Index n = static_cast<Eigen::Index>(cloud.size());
   double mx = 0, my = 0, mz = 0;
   for (const PointI& q : cloud) {
@@ -24,6 +24,7 @@ Cloud pca_align_reference(const Cloud& cloud) {
   }
   const Eigen::MatrixXd scatter = centered.transpose() * centered;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(scatter);
+  if (to_aligned) *to_aligned = solver.eigenvectors().transpose();
   const Eigen::VectorXd a0 = centered * solver.eigenvectors().col(0);
   const Eigen::VectorXd a1 = centered * solver.eigenvectors().col(1);
   const Eigen::VectorXd a2 = centered * solver.eigenvectors().col(2);
@@ -32,7 +33,7 @@ Cloud pca_align_reference(const Cloud& cloud) {
   return out;
 }
 
-Cloud pca_align_default(const Cloud& cloud) {
+Cloud pca_align_default(const Cloud& cloud, Eigen::Matrix3d* frame) {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const PointI& q : cloud) centroid += q.p;
   centroid /= static_cast<double>(cloud.size());
@@ -45,6 +46,7 @@ Cloud pca_align_default(const Cloud& cloud) {
   Eigen::Matrix3d basis = solver.eigenvectors();
   if (basis.determinant() < 0) basis.col(0) = -basis.col(0);
   const Eigen::Matrix3d to_aligned = basis.transpose();
+  if (frame) *frame = to_aligned;
   Cloud out(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     out[i] = {to_aligned * (cloud[i].p - centroid), cloud[i].intensity};
@@ -54,9 +56,11 @@ Cloud pca_align_default(const Cloud& cloud) {
 
 }  // namespace
 
-Cloud pca_align(const Cloud& cloud, Mode mode) {
+Cloud pca_align(const Cloud& cloud, Mode mode, Eigen::Matrix3d* to_aligned) {
+  if (to_aligned) to_aligned->setIdentity();
   if (cloud.empty()) return {};
-  return mode == Mode::Reference ? pca_align_reference(cloud) : pca_align_default(cloud);
+  return mode == Mode::Reference ? pca_align_reference(cloud, to_aligned)
+                                 : pca_align_default(cloud, to_aligned);
 }
 
 }  // namespace loopscan

@@ -9,7 +9,9 @@ namespace loopscan {
 // Reference mode uses the authors' exact Eigen path (dynamic-size solver), so eigenvector
 // signs match theirs. Default mode uses the fixed-size solver and makes the basis
 // right-handed: the descriptors' sign "versions" (two-axis flips) then cover every pair.
-// An empty input gives an empty output.
-Cloud pca_align(const Cloud& cloud, Mode mode);
+// An empty input gives an empty output. `to_aligned` (optional) receives the matrix whose rows
+// are the aligned axes in the input frame (identity for an empty input), which turns a
+// descriptor's sector alignment back into a yaw of the keyframe.
+Cloud pca_align(const Cloud& cloud, Mode mode, Eigen::Matrix3d* to_aligned = nullptr);
 
 }  // namespace loopscan

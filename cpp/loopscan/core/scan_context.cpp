@@ -46,8 +46,9 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
   return {high - low, gray};
 }
 
-Signature scan_context_signature(const Cloud& scan, const ScanContextConfig& config) {
-  const ScanContext sc = scan_context_of_aligned(pca_align(scan, config.mode), config);
+Signature scan_context_signature(const Cloud& scan, const ScanContextConfig& config,
+                                 Eigen::Matrix3d* frame) {
+  const ScanContext sc = scan_context_of_aligned(pca_align(scan, config.mode, frame), config);
   Signature row(1, sc.structure.size() + sc.intensity.size());
   row << sc.structure.transpose(), sc.intensity.transpose();
   return row;

@@ -19,6 +19,9 @@ struct IdPoint {
   float intensity = 0.f;
 };
 
+// A world-to-camera (or any rigid) transform as the top three rows of a 4x4 matrix.
+using Pose3x4 = Eigen::Matrix<double, 3, 4>;
+
 // One VO keyframe: id and world-to-camera transform (3x4, row-major in files).
 struct KeyframePose {
   int id = 0;

@@ -1,0 +1,330 @@
+// The place database: the packed Scan Context kernel and the KD-tree against brute-force
+// oracles, exact and indexed queries against difference rows built from the pair distances,
+// query options, and relative yaw.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include "loopscan/core/database.hpp"
+#include "loopscan/core/describe.hpp"
+#include "loopscan/core/fusion.hpp"
+#include "loopscan/core/key_index.hpp"
+#include "loopscan/core/pair_distance.hpp"
+#include "loopscan/core/scan_context_spectra.hpp"
+#include "test_support.hpp"
+
+namespace loopscan {
+namespace {
+
+// Random signatures of the method's shape: sparse non-negative SC heights with 0/1
+// intensities, signed M2DP rows, sparse DELIGHT counts.
+Signature random_signature(Method m, std::mt19937& rng, const ScanContextConfig& sc = {}) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  if (m == Method::ScanContext) {
+    const int n = sc.rings * sc.sectors;
+    Signature s = Signature::Zero(1, 2 * n);
+    for (int i = 0; i < n; ++i) {
+      if (u(rng) < 0.5) continue;
+      s(0, i) = 5 * u(rng);
+      s(0, n + i) = u(rng) < 0.5 ? 1.0 : 0.0;
+    }
+    return s;
+  }
+  if (m == Method::M2dp) {
+    Signature s(4, signature_columns(m));
+    for (Eigen::Index i = 0; i < s.size(); ++i) s(i) = u(rng) - 0.5;
+    return s;
+  }
+  Signature s = Signature::Zero(16, signature_columns(m));
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    if (u(rng) < 0.2) s(i) = std::floor(10 * u(rng));
+  }
+  return s;
+}
+
+double oracle(Method m, const Signature& q, const Signature& d, Component c,
+              const ScanContextConfig& sc = {}) {
+  if (m == Method::ScanContext) return scan_context_distance(q, d, c, sc);
+  if (m == Method::M2dp) return m2dp_distance(q, d, c);
+  return delight_distance(q, d);
+}
+
+// Dot of the normalised halves at a given alignment, straight from the definition.
+double dot_at(const Signature& q, const Signature& d, int half, int shift, bool mirrored,
+              const ScanContextConfig& c) {
+  const int R = c.rings, S = c.sectors, off = half * R * S;
+  const double nq = q.middleCols(off, R * S).norm(), nd = d.middleCols(off, R * S).norm();
+  double dot = 0;
+  for (int s = 0; s < S; ++s) {
+    const int t = mirrored ? ((shift - s) % S + S) % S : (s + shift) % S;
+    for (int r = 0; r < R; ++r) dot += q(0, off + s * R + r) * d(0, off + t * R + r);
+  }
+  return dot / (nq * nd);
+}
+
+TEST(ScanContextSpectra, BestDotsAndAlignmentMatchTheOracle) {
+  for (int sectors : {60, 36}) {  // the vectorised and the generic path
+    ScanContextConfig cfg;
+    cfg.sectors = sectors;
+    cfg.rings = sectors == 60 ? 20 : 7;
+    const ScanContextSpectra spectra(cfg);
+    std::mt19937 rng(sectors);
+    for (int trial = 0; trial < 20; ++trial) {
+      const Signature a = random_signature(Method::ScanContext, rng, cfg);
+      Signature b = random_signature(Method::ScanContext, rng, cfg);
+      if (trial % 4 == 0) b.rightCols(b.cols() / 2).setZero();  // a zero half
+      std::vector<float> packed(spectra.floats_per_place());
+      spectra.pack(b, packed.data());
+      const auto q = spectra.prepare(a);
+      float best[2];
+      spectra.best_dots(q, packed.data(), best);
+      for (int c = 0; c < 2; ++c) {
+        const double d = oracle(Method::ScanContext, a, b, Component(c), cfg);
+        EXPECT_NEAR((1.0 - best[c]) / 2.0, d, 2e-5) << "S=" << sectors << " c=" << c;
+        if (trial % 4 == 0 && c == 1) continue;
+        const SectorAlignment al = spectra.align(q, packed.data(), c);
+        EXPECT_NEAR(al.dot, 1.0 - 2.0 * d, 2e-5);
+        EXPECT_NEAR(dot_at(a, b, c, al.shift, al.mirrored, cfg), al.dot, 2e-5)
+            << "shift " << al.shift << (al.mirrored ? " mirrored" : "");
+      }
+    }
+  }
+}
+
+TEST(ScanContextSpectra, RejectsOddSectorsAndWrongShapes) {
+  ScanContextConfig odd;
+  odd.sectors = 61;
+  EXPECT_THROW(ScanContextSpectra{odd}, std::invalid_argument);
+  const ScanContextSpectra spectra(ScanContextConfig{});
+  std::vector<float> out(spectra.floats_per_place());
+  EXPECT_THROW(spectra.pack(Signature::Zero(1, 100), out.data()), std::invalid_argument);
+}
+
+TEST(KeyIndex, NearestEqualsBruteForceAmongEligible) {
+  for (int dims : {2, 20}) {
+    for (std::size_t n : {1u, 7u, 100u, 2000u}) {
+      std::mt19937 rng(static_cast<unsigned>(dims * 10007 + n));
+      std::normal_distribution<float> g;
+      const std::size_t stride = dims + 3;
+      std::vector<float> data(n * stride);
+      for (float& v : data) v = g(rng);
+      KeyIndex index({dims, stride, 1, 1}, &data);
+      index.extend(n / 2);  // incremental additions
+      index.extend(n);
+      ASSERT_EQ(index.indexed(), n);
+      const auto eligible = [](std::size_t i) { return i % 3 != 0; };
+      for (int trial = 0; trial < 10; ++trial) {
+        std::vector<float> key(dims);
+        for (float& v : key) v = g(rng);
+        std::vector<std::pair<float, std::size_t>> got, want;
+        index.nearest(key.data(), 5, eligible, got);
+        for (std::size_t i = 0; i < n; ++i) {
+          if (!eligible(i)) continue;
+          float d = 0;
+          for (int k = 0; k < dims; ++k) d += std::pow(key[k] - data[i * stride + 1 + k], 2.f);
+          want.emplace_back(d, i);
+        }
+        std::sort(want.begin(), want.end());
+        want.resize(std::min<std::size_t>(5, want.size()));
+        ASSERT_EQ(got.size(), want.size()) << "dims " << dims << " n " << n;
+        for (std::size_t j = 0; j < got.size(); ++j) {
+          EXPECT_NEAR(got[j].first, want[j].first, 1e-4f * (1 + want[j].first));
+        }
+      }
+    }
+  }
+}
+
+// Fused, z-scored oracle row over the eligible places, ranked.
+std::vector<std::pair<double, std::size_t>> oracle_ranking(Method m, const Signature& q,
+                                                           const std::vector<Signature>& db,
+                                                           const std::vector<std::size_t>& ids,
+                                                           Fusion fusion) {
+  const int C = m == Method::Delight ? 1 : 2;
+  Eigen::MatrixXd rows(C, static_cast<Eigen::Index>(ids.size()));
+  for (std::size_t j = 0; j < ids.size(); ++j) {
+    for (int c = 0; c < C; ++c) rows(c, j) = oracle(m, q, db[ids[j]], Component(c));
+  }
+  const Eigen::RowVectorXd row = combine_components(rows, C == 1 ? Fusion::Fused : fusion);
+  std::vector<std::pair<double, std::size_t>> ranked;
+  for (std::size_t j = 0; j < ids.size(); ++j) ranked.emplace_back(row(j), ids[j]);
+  std::stable_sort(ranked.begin(), ranked.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  return ranked;
+}
+
+TEST(Database, ExactQueriesMatchTheOracleRows) {
+  for (Method m : {Method::ScanContext, Method::M2dp, Method::Delight}) {
+    for (Fusion fusion : {Fusion::Fused, Fusion::Structure}) {
+      for (int n : {1, 2, 13, 60}) {
+        std::mt19937 rng(static_cast<unsigned>(n * 3 + static_cast<int>(m)));
+        DatabaseConfig cfg;
+        cfg.method = m;
+        cfg.fusion = fusion;
+        Database db(cfg);
+        std::vector<Signature> sigs;
+        for (int i = 0; i < n; ++i) {
+          sigs.push_back(random_signature(m, rng));
+          db.add({i % 2, i}, {sigs.back()});
+        }
+        QueryOptions opt;
+        opt.retrieval = Retrieval::Exact;
+        opt.exclude_recent = n / 4;
+        opt.sessions = n > 2 ? std::vector<int>{0} : std::vector<int>{};
+        const Signature q = random_signature(m, rng);
+        std::vector<std::size_t> ids;
+        for (int i = 0; i < n - n / 4; ++i) {
+          if (opt.sessions.empty() || i % 2 == 0) ids.push_back(i);
+        }
+        const auto want = oracle_ranking(m, q, sigs, ids, fusion);
+        const auto got = db.query({q}, 5, opt);
+        ASSERT_EQ(got.size(), std::min<std::size_t>(5, want.size()))
+            << method_name(m) << " n=" << n;
+        for (std::size_t j = 0; j < got.size(); ++j) {
+          EXPECT_NEAR(got[j].distance, want[j].first, 2e-4 * (1 + std::abs(want[j].first)))
+              << method_name(m) << " n=" << n << " rank " << j;
+          EXPECT_EQ(got[j].place.keyframe, static_cast<int>(got[j].index));
+          EXPECT_EQ(got[j].place.session, static_cast<int>(got[j].index % 2));
+        }
+        if (!got.empty()) {
+          EXPECT_EQ(got[0].index, want[0].second);
+          EXPECT_EQ(std::isnan(got[0].yaw_rad), m != Method::ScanContext);
+        }
+      }
+    }
+  }
+}
+
+TEST(Database, IndexedEqualsExactWhenTheIndexProposesEverything) {
+  for (Method m : {Method::ScanContext, Method::M2dp, Method::Delight}) {
+    std::mt19937 rng(77);
+    DatabaseConfig cfg;
+    cfg.method = m;
+    Database db(cfg);
+    const int n = 150;
+    for (int i = 0; i < n; ++i) db.add({0, i}, {random_signature(m, rng)});
+    QueryOptions exact, indexed;
+    exact.retrieval = Retrieval::Exact;
+    indexed.candidates = indexed.stats_sample = n;
+    for (int trial = 0; trial < 5; ++trial) {
+      const PlaceDescriptor q{random_signature(m, rng)};
+      const auto a = db.query(q, 3, exact), b = db.query(q, 3, indexed);
+      ASSERT_EQ(a.size(), b.size());
+      for (std::size_t j = 0; j < a.size(); ++j) {
+        EXPECT_EQ(a[j].index, b[j].index) << method_name(m);
+        EXPECT_DOUBLE_EQ(a[j].distance, b[j].distance);
+      }
+    }
+  }
+}
+
+TEST(Database, IndexedFindsANoisyCopyOfAStoredPlace) {
+  // Perturbed copies of stored places: the index must hand the original to exact scoring.
+  for (Method m : {Method::ScanContext, Method::M2dp, Method::Delight}) {
+    std::mt19937 rng(5);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    DatabaseConfig cfg;
+    cfg.method = m;
+    Database db(cfg);
+    std::vector<Signature> sigs;
+    for (int i = 0; i < 400; ++i) {
+      sigs.push_back(random_signature(m, rng));
+      db.add({0, i}, {sigs.back()});
+    }
+    int hits = 0;
+    for (int i = 0; i < 400; i += 20) {
+      Signature q = sigs[i];
+      for (Eigen::Index j = 0; j < q.size(); ++j) {
+        if (q(j) != 0) q(j) = std::max(0.0, q(j) + (m == Method::M2dp ? noise(rng) : 0.5 * noise(rng)));
+      }
+      const auto got = db.query({q}, 1);
+      hits += !got.empty() && got[0].index == static_cast<std::size_t>(i);
+    }
+    EXPECT_EQ(hits, 20) << method_name(m);
+  }
+}
+
+TEST(Database, OptionsFilterAndTheUniquenessTest) {
+  std::mt19937 rng(3);
+  Database db;
+  const Signature a = random_signature(Method::ScanContext, rng);
+  for (int i = 0; i < 30; ++i) {
+    db.add({i < 20 ? 0 : 1, i}, {i == 5 || i == 25 ? a : random_signature(Method::ScanContext, rng)});
+  }
+  QueryOptions opt;
+  opt.retrieval = Retrieval::Exact;
+  auto got = db.query({a}, 2, opt);
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(std::set<std::size_t>({got[0].index, got[1].index}), std::set<std::size_t>({5, 25}));
+  EXPECT_NEAR(got[0].yaw_rad, 0.0, 1e-6);  // identical signatures, identity frames
+  opt.sessions = {1};
+  got = db.query({a}, 1, opt);
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].index, 25u);
+  opt.exclude_recent = 5;  // drops 25..29
+  got = db.query({a}, 1, opt);
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_NE(got[0].index, 25u);
+  opt = {};
+  opt.retrieval = Retrieval::Exact;
+  opt.max_distance = got[0].distance - 1.0;  // nothing is that close except the copies
+  got = db.query({a}, 5, opt);
+  EXPECT_EQ(got.size(), 2u);
+  // Two equally good distinct places: not unique. Same session and close ids: unique.
+  opt = {};
+  opt.uniqueness_ratio = 0.8;
+  EXPECT_TRUE(db.query({a}, 1, opt).empty());
+  opt.sessions = {0};
+  EXPECT_EQ(db.query({a}, 1, opt).size(), 1u);
+  EXPECT_THROW(db.query({Signature::Zero(1, 10)}, 1), std::invalid_argument);
+  EXPECT_THROW(db.add({0, 99}, {Signature::Zero(4, 10)}), std::invalid_argument);
+  EXPECT_EQ(db.size(), 30u);
+}
+
+double wrap(double a) { return std::remainder(a, 2.0 * M_PI); }
+
+TEST(Database, YawOfARotatedScanIsTheRotation) {
+  // The same street seen from a keyframe turned by psi about the camera's up axis (-y).
+  const Cloud base = test::street_cloud(9, 4000);
+  const DescriptorConfig cfg = DescriptorConfig::for_mode(Mode::Default);
+  Database db;
+  PlaceDescriptor place;
+  place.signature = describe(Method::ScanContext, base, cfg, &place.frame);
+  db.add({0, 0}, place);
+  const double sector = 2 * M_PI / 60;
+  for (double psi : {0.0, 0.3, -0.7, 1.5, 2.9, -2.2}) {
+    // A point fixed in the world: p_query = R p_place, with R the inverse of the query's turn.
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    PlaceDescriptor q;
+    q.signature = describe(Method::ScanContext, test::transformed(base, R, {0.3, 0, -0.4}), cfg,
+                           &q.frame);
+    const auto got = db.query(q, 1);
+    ASSERT_EQ(got.size(), 1u);
+    // Forward of the place keyframe (+z) in the query frame is R e_z.
+    const Eigen::Vector3d f = R * Eigen::Vector3d::UnitZ();
+    const double want = std::atan2(-f.x(), f.z());
+    EXPECT_LE(std::abs(wrap(got[0].yaw_rad - want)), sector) << "psi " << psi;
+  }
+}
+
+TEST(Database, RelativeYawComposesWithTheFrames) {
+  // Descriptor axes (up = camera y, then z, x): a shift of s sectors is a turn of s sectors.
+  Eigen::Matrix3d B0;
+  B0 << 0, 1, 0, 0, 0, 1, 1, 0, 0;
+  EXPECT_NEAR(relative_yaw(B0, B0, 0, false, 60), 0.0, 1e-12);
+  const double y10 = relative_yaw(B0, B0, 10, false, 60);
+  EXPECT_NEAR(std::abs(y10), 10 * 2 * M_PI / 60, 1e-9);
+  EXPECT_NEAR(relative_yaw(B0, B0, 50, false, 60), -y10, 1e-9);
+  // Both frames turned by the same yaw: the relative yaw does not change.
+  const Eigen::Matrix3d B = B0 * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  EXPECT_NEAR(wrap(relative_yaw(B, B, 10, false, 60) - y10), 0.0, 1e-9);
+  // Only the place's frame turned by 0.4: the yaw moves by 0.4 one way or the other.
+  EXPECT_NEAR(std::abs(wrap(relative_yaw(B0, B, 0, false, 60))), 0.4, 1e-9);
+}
+
+}  // namespace
+}  // namespace loopscan
