@@ -112,8 +112,12 @@ TEST(KeyIndex, NearestEqualsBruteForceAmongEligible) {
       const std::size_t stride = dims + 3;
       std::vector<float> data(n * stride);
       for (float& v : data) v = g(rng);
-      KeyIndex index({dims, stride, 1, 1}, &data);
-      index.extend(n / 2);  // incremental additions
+      PayloadArena arena(stride);
+      KeyIndex index({dims, 1, 1}, &arena);
+      for (std::size_t i = 0; i < n; ++i) {
+        arena.append(&data[i * stride]);
+        if (i == n / 2) index.extend(i + 1);  // incremental additions
+      }
       index.extend(n);
       ASSERT_EQ(index.indexed(), n);
       const auto eligible = [](std::size_t i) { return i % 3 != 0; };

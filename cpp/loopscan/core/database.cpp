@@ -52,9 +52,7 @@ Database& Database::operator=(Database&&) noexcept = default;
 
 int Database::payload_floats() const { return store_->payload_floats(); }
 
-const float* Database::payload(std::size_t i) const {
-  return &store_->payloads()[i * static_cast<std::size_t>(store_->payload_floats())];
-}
+const float* Database::payload(std::size_t i) const { return store_->arena().at(i); }
 
 void Database::add(const PlaceRef& place, const PlaceDescriptor& descriptor,
                    const std::optional<Pose3x4>& T_cam_world) {
@@ -66,11 +64,11 @@ void Database::add(const PlaceRef& place, const PlaceDescriptor& descriptor,
 void Database::add_stored(const PlaceRef& place, const float* payload,
                           const Eigen::Matrix3f& frame,
                           const std::optional<Pose3x4>& T_cam_world) {
-  std::vector<float>& all = store_->payloads();
-  all.insert(all.end(), payload, payload + store_->payload_floats());
+  store_->arena().append(payload);
   places_.push_back(place);
   frames_.push_back(frame);
-  poses_.push_back(T_cam_world);
+  pose_slot_.push_back(T_cam_world ? static_cast<std::int32_t>(pose_values_.size()) : -1);
+  if (T_cam_world) pose_values_.push_back(*T_cam_world);
   store_->indexed_up_to(places_.size());
 }
 
@@ -174,9 +172,14 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
 }
 
 std::size_t Database::memory_bytes() const {
-  return store_->payloads().capacity() * sizeof(float) + store_->index_bytes() +
+  return store_->arena().memory_bytes() + store_->index_bytes() +
          places_.capacity() * sizeof(PlaceRef) + frames_.capacity() * sizeof(Eigen::Matrix3f) +
-         poses_.capacity() * sizeof(std::optional<Pose3x4>);
+         pose_slot_.capacity() * sizeof(std::int32_t) + pose_values_.capacity() * sizeof(Pose3x4);
+}
+
+std::optional<Pose3x4> Database::pose(std::size_t i) const {
+  if (pose_slot_[i] < 0) return std::nullopt;
+  return pose_values_[static_cast<std::size_t>(pose_slot_[i])];
 }
 
 double relative_yaw(const Eigen::Matrix3d& query_frame, const Eigen::Matrix3d& place_frame,

@@ -3,6 +3,7 @@
 // best matches with their relative yaw, by exact search or through an index and exact
 // re-scoring of its candidates. Places carry their session, so one database serves several
 // sessions (build from summer, query from winter). No I/O here: io/database_file saves it.
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -91,7 +92,7 @@ class Database {
   std::size_t size() const { return places_.size(); }
   const DatabaseConfig& config() const { return config_; }
   PlaceRef place(std::size_t i) const { return places_[i]; }
-  const std::optional<Pose3x4>& pose(std::size_t i) const { return poses_[i]; }
+  std::optional<Pose3x4> pose(std::size_t i) const;
   const Eigen::Matrix3f& frame(std::size_t i) const { return frames_[i]; }
 
   // The stored form of a place (what persistence writes): a fixed-length float payload.
@@ -109,7 +110,8 @@ class Database {
   std::unique_ptr<PlaceStore> store_;  // owns the payloads, so the index may point into them
   std::vector<PlaceRef> places_;
   std::vector<Eigen::Matrix3f> frames_;
-  std::vector<std::optional<Pose3x4>> poses_;
+  std::vector<std::int32_t> pose_slot_;  // -1: no pose; else an index into pose_values_
+  std::vector<Pose3x4> pose_values_;
 };
 
 // The yaw of Candidate::yaw_rad from a sector alignment and the two descriptor frames.

@@ -20,12 +20,14 @@ class DelightStore final : public PlaceStore {
   };
 
  public:
-  explicit DelightStore(int columns) : columns_(columns), bins_(delight_padded_bins(columns)) {
+  explicit DelightStore(int columns)
+      : PlaceStore(kDelightRegions * static_cast<std::size_t>(delight_padded_bins(columns)) + 2),
+        columns_(columns),
+        bins_(delight_padded_bins(columns)) {
     if (columns <= 0) throw std::invalid_argument("DELIGHT signatures need columns > 0");
   }
 
-  // [region][padded bin] counts, then the two totals.
-  int payload_floats() const override { return kDelightRegions * bins_ + 2; }
+  // Payload: [region][padded bin] counts, then the two totals.
   int components() const override { return 1; }
 
   void encode(const Signature& s, float* payload) const override {
@@ -42,7 +44,7 @@ class DelightStore final : public PlaceStore {
   void indexed_up_to(std::size_t n) override {
     for (std::size_t i = coarse_.size() / kCoarseBins; i < n; ++i) {
       float c[kCoarseBins];
-      coarse_of(&payloads_[i * payload_floats()], c);
+      coarse_of(arena_.at(i), c);
       coarse_.insert(coarse_.end(), c, c + kCoarseBins);
     }
   }

@@ -10,11 +10,11 @@ namespace {
 
 struct PayloadKeys {
   KeyLayout layout;
-  const std::vector<float>* data = nullptr;
+  const PayloadArena* data = nullptr;
   std::size_t count = 0;
   std::size_t kdtree_get_point_count() const { return count; }
   float kdtree_get_pt(std::uint32_t i, std::size_t d) const {
-    return (*data)[i * layout.stride + layout.offset + d * layout.step];
+    return data->at(i)[layout.offset + d * layout.step];
   }
   template <class Box>
   bool kdtree_get_bbox(Box&) const {
@@ -62,12 +62,12 @@ class EligibleKnn {
 struct KeyIndex::Impl {
   PayloadKeys keys;
   Tree tree;
-  Impl(const KeyLayout& layout, const std::vector<float>* data)
+  Impl(const KeyLayout& layout, const PayloadArena* data)
       : keys{layout, data, 0},
         tree(layout.dims, keys, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
 };
 
-KeyIndex::KeyIndex(const KeyLayout& layout, const std::vector<float>* data)
+KeyIndex::KeyIndex(const KeyLayout& layout, const PayloadArena* data)
     : impl_(std::make_unique<Impl>(layout, data)) {}
 KeyIndex::~KeyIndex() = default;
 

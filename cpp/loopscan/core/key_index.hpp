@@ -8,17 +8,19 @@
 #include <utility>
 #include <vector>
 
+#include "loopscan/core/payload_arena.hpp"
+
 namespace loopscan {
 
-// Key d of place i is data[i * stride + offset + d * step].
+// Key d of place i is arena.at(i)[offset + d * step].
 struct KeyLayout {
   int dims = 0;
-  std::size_t stride = 0, offset = 0, step = 1;
+  std::size_t offset = 0, step = 1;
 };
 
 class KeyIndex {
  public:
-  KeyIndex(const KeyLayout& layout, const std::vector<float>* data);
+  KeyIndex(const KeyLayout& layout, const PayloadArena* data);
   ~KeyIndex();
   KeyIndex(const KeyIndex&) = delete;
   KeyIndex& operator=(const KeyIndex&) = delete;

@@ -36,14 +36,14 @@ class M2dpStore final : public PlaceStore {
 
  public:
   explicit M2dpStore(int columns)
-      : half_(columns / 2),
-        index_({half_, static_cast<std::size_t>(kVersions * 2 * half_), 0, 1}, &payloads_) {
+      : PlaceStore(kVersions * static_cast<std::size_t>(std::max(columns, 0))),
+        half_(columns / 2),
+        index_({half_, 0, 1}, &arena_) {
     if (columns <= 0 || columns % 2 != 0) {
       throw std::invalid_argument("M2DP signatures need an even, positive column count");
     }
   }
 
-  int payload_floats() const override { return kVersions * 2 * half_; }
   int components() const override { return 2; }
 
   void encode(const Signature& s, float* payload) const override {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "loopscan/core/database.hpp"
+#include "loopscan/core/payload_arena.hpp"
 #include "loopscan/core/scan_context_spectra.hpp"
 
 namespace loopscan {
@@ -21,7 +22,7 @@ class PlaceStore {
   };
   virtual ~PlaceStore() = default;
 
-  virtual int payload_floats() const = 0;
+  int payload_floats() const { return static_cast<int>(arena_.floats_per_record()); }
   virtual int components() const = 0;  // 2 (structure, intensity) or 1
   // Throws std::invalid_argument when the signature has the wrong shape.
   virtual void encode(const Signature& signature, float* payload) const = 0;
@@ -40,11 +41,12 @@ class PlaceStore {
   virtual int sectors() const { return 0; }
   virtual std::size_t index_bytes() const = 0;
 
-  std::vector<float>& payloads() { return payloads_; }
-  const std::vector<float>& payloads() const { return payloads_; }
+  PayloadArena& arena() { return arena_; }
+  const PayloadArena& arena() const { return arena_; }
 
  protected:
-  std::vector<float> payloads_;
+  explicit PlaceStore(std::size_t payload_floats) : arena_(payload_floats) {}
+  PayloadArena arena_;
 };
 
 std::unique_ptr<PlaceStore> make_scan_context_store(const ScanContextConfig& config);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "loopscan/core/config.hpp"
+#include "loopscan/core/payload_arena.hpp"
 #include "loopscan/core/signature.hpp"
 
 namespace loopscan {
@@ -36,7 +37,7 @@ class ScanContextSpectra {
   // A query packed, plus a copy with the two halves of every ring swapped, which turns the
   // four real products of a complex multiply into two element-wise products.
   struct Query {
-    std::vector<float> packed, swapped;
+    AlignedFloats packed, swapped;
   };
   Query prepare(const Signature& query) const;
   void prepare_packed(const float* packed, Query& out) const;
@@ -57,7 +58,8 @@ class ScanContextSpectra {
 
  private:
   int rings_, sectors_;
-  std::vector<double> fwd_cos_, fwd_sin_;  // (S/2 + 1) x S
+  std::vector<float> forward_;       // S x S: packed spectrum of a unit value in sector s
+  std::vector<double> cos_, sin_;    // S x S/2: cos, sin of 2 pi k m / S (row m)
   std::vector<float> inv_cos_, inv_sin_;   // (S/2 + 1) x padded m, weights and 1/S folded in
   int m_padded_;
 };

@@ -15,12 +15,10 @@ class ScanContextStore final : public PlaceStore {
 
  public:
   explicit ScanContextStore(const ScanContextConfig& config)
-      : spectra_(config),
-        index_({config.rings, static_cast<std::size_t>(spectra_.floats_per_place()), 0,
-                static_cast<std::size_t>(config.sectors)},
-               &payloads_) {}
+      : PlaceStore(2 * static_cast<std::size_t>(config.rings) * config.sectors),
+        spectra_(config),
+        index_({config.rings, 0, static_cast<std::size_t>(config.sectors)}, &arena_) {}
 
-  int payload_floats() const override { return spectra_.floats_per_place(); }
   int components() const override { return 2; }
   void encode(const Signature& signature, float* payload) const override {
     spectra_.pack(signature, payload);
