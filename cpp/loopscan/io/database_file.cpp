@@ -1,0 +1,220 @@
+#include "loopscan/io/database_file.hpp"
+
+#include <zlib.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "loopscan/io/atomic_file.hpp"
+#include "loopscan/io/errors.hpp"
+
+namespace loopscan::io {
+namespace {
+
+constexpr char kMagic[8] = {'L', 'O', 'O', 'P', 'S', 'C', 'D', 'B'};
+constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8 + 4 + 4 + 4 + 4 + 8;
+constexpr std::size_t kPlaceFixedBytes = 4 + 4 + 1 + 9 * 4;
+constexpr std::size_t kPoseBytes = 12 * 8;
+
+static_assert(sizeof(float) == 4 && sizeof(double) == 8, "IEEE types expected");
+
+// Little-endian byte buffer with a running CRC (x86-64 and ARM64 are little-endian; the
+// static_assert below keeps a big-endian build from writing wrong files silently).
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "little-endian host expected");
+
+class Writer {
+ public:
+  explicit Writer(std::ostream& out) : out_(out) {}
+  template <typename T>
+  void put(const T& v) {
+    bytes(&v, sizeof v);
+  }
+  void bytes(const void* p, std::size_t n) {
+    out_.write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
+    crc_ = crc32(crc_, static_cast<const Bytef*>(p), static_cast<uInt>(n));
+  }
+  std::uint32_t crc() const { return static_cast<std::uint32_t>(crc_); }
+
+ private:
+  std::ostream& out_;
+  uLong crc_ = crc32(0L, Z_NULL, 0);
+};
+
+class Reader {
+ public:
+  Reader(std::istream& in, std::string path) : in_(in), path_(std::move(path)) {}
+  template <typename T>
+  T get(const char* what) {
+    T v;
+    bytes(&v, sizeof v, what);
+    return v;
+  }
+  void bytes(void* p, std::size_t n, const char* what) {
+    if (!in_.read(static_cast<char*>(p), static_cast<std::streamsize>(n))) {
+      fail(std::string("unexpected end of file, expected ") + what);
+    }
+    crc_ = crc32(crc_, static_cast<const Bytef*>(p), static_cast<uInt>(n));
+    offset_ += n;
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(path_, 0, "byte " + std::to_string(offset_) + ": " + what);
+  }
+  std::uint32_t crc() const { return static_cast<std::uint32_t>(crc_); }
+  std::size_t offset() const { return offset_; }
+
+ private:
+  std::istream& in_;
+  std::string path_;
+  uLong crc_ = crc32(0L, Z_NULL, 0);
+  std::size_t offset_ = 0;
+};
+
+std::string describe(const DatabaseConfig& c) {
+  return method_name(c.method) + "/" + fusion_name(c.fusion) + " w_s " +
+         std::to_string(c.structure_weight) + ", " + std::to_string(c.scan_context.rings) + "x" +
+         std::to_string(c.scan_context.sectors) + ", " + std::to_string(c.columns) + " columns";
+}
+
+bool same_parameters(const DatabaseConfig& a, const DatabaseConfig& b) {
+  const int ca = a.columns > 0 ? a.columns : signature_columns(a.method);
+  const int cb = b.columns > 0 ? b.columns : signature_columns(b.method);
+  const bool sc = a.method == Method::ScanContext;
+  return a.method == b.method && a.fusion == b.fusion &&
+         a.structure_weight == b.structure_weight &&
+         (!sc || (a.scan_context.rings == b.scan_context.rings &&
+                  a.scan_context.sectors == b.scan_context.sectors)) &&
+         (sc || ca == cb);
+}
+
+}  // namespace
+
+void save_database(const Database& db, const std::string& path) {
+  AtomicWriter file(path);
+  Writer w(file.stream());
+  const DatabaseConfig& c = db.config();
+  w.bytes(kMagic, sizeof kMagic);
+  w.put<std::uint32_t>(kDatabaseFileVersion);
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(c.method));
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(c.fusion));
+  w.put<double>(c.structure_weight);
+  w.put<std::int32_t>(c.scan_context.rings);
+  w.put<std::int32_t>(c.scan_context.sectors);
+  w.put<std::int32_t>(c.columns > 0 ? c.columns : signature_columns(c.method));
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(db.payload_floats()));
+  w.put<std::uint64_t>(db.size());
+  for (std::size_t i = 0; i < db.size(); ++i) {
+    const PlaceRef p = db.place(i);
+    w.put<std::int32_t>(p.session);
+    w.put<std::int32_t>(p.keyframe);
+    const std::optional<Pose3x4> pose = db.pose(i);
+    w.put<std::uint8_t>(pose ? 1 : 0);
+    const Eigen::Matrix<float, 3, 3, Eigen::RowMajor> frame = db.frame(i);
+    w.bytes(frame.data(), 9 * sizeof(float));
+    if (pose) {
+      const Eigen::Matrix<double, 3, 4, Eigen::RowMajor> T = *pose;
+      w.bytes(T.data(), 12 * sizeof(double));
+    }
+    w.bytes(db.payload(i), static_cast<std::size_t>(db.payload_floats()) * sizeof(float));
+  }
+  const std::uint32_t crc = w.crc();
+  file.stream().write(reinterpret_cast<const char*>(&crc), sizeof crc);
+  file.commit();
+}
+
+Database load_database(const std::string& path, const DatabaseConfig* expected) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "cannot open the place database file");
+  std::error_code ec;
+  const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path, 0, "cannot read the size of the place database file");
+  Reader r(in, path);
+
+  char magic[8];
+  r.bytes(magic, sizeof magic, "the magic \"LOOPSCDB\"");
+  if (std::memcmp(magic, kMagic, sizeof magic) != 0) {
+    r.fail("not a loopscan place database (expected the magic \"LOOPSCDB\")");
+  }
+  const auto version = r.get<std::uint32_t>("the format version");
+  if (version != kDatabaseFileVersion) {
+    r.fail("format version " + std::to_string(version) + ", this build reads version " +
+           std::to_string(kDatabaseFileVersion));
+  }
+  DatabaseConfig c;
+  const auto method = r.get<std::uint32_t>("the descriptor kind");
+  if (method > 2) r.fail("descriptor kind " + std::to_string(method) + ", expected 0..2");
+  c.method = static_cast<Method>(method);
+  const auto fusion = r.get<std::uint32_t>("the fusion");
+  if (fusion > 2) r.fail("fusion " + std::to_string(fusion) + ", expected 0..2");
+  c.fusion = static_cast<Fusion>(fusion);
+  c.structure_weight = r.get<double>("the structure weight");
+  if (!std::isfinite(c.structure_weight)) r.fail("a finite structure weight");
+  c.scan_context.rings = r.get<std::int32_t>("the ring count");
+  c.scan_context.sectors = r.get<std::int32_t>("the sector count");
+  c.columns = r.get<std::int32_t>("the signature width");
+  const bool sc = c.method == Method::ScanContext;
+  if (sc && (c.scan_context.rings <= 0 || c.scan_context.rings > 4096 ||
+             c.scan_context.sectors <= 0 || c.scan_context.sectors > 512 ||
+             c.scan_context.sectors % 2 != 0)) {
+    r.fail("Scan Context size " + std::to_string(c.scan_context.rings) + " x " +
+           std::to_string(c.scan_context.sectors) + ", expected rings in 1..4096 and an even "
+           "sector count in 2..512");
+  }
+  if (c.columns <= 0 || c.columns > (1 << 20)) {
+    r.fail("signature width " + std::to_string(c.columns) + ", expected 1..1048576");
+  }
+  if (expected && !same_parameters(c, *expected)) {
+    r.fail("built with " + describe(c) + ", expected " + describe(*expected));
+  }
+  Database db = [&] {
+    try {
+      return Database(c);
+    } catch (const std::invalid_argument& e) {
+      r.fail(std::string("parameters rejected: ") + e.what());
+    }
+  }();
+  const auto floats = r.get<std::uint32_t>("the payload size");
+  if (floats != static_cast<std::uint32_t>(db.payload_floats())) {
+    r.fail("payload of " + std::to_string(floats) + " floats, these parameters give " +
+           std::to_string(db.payload_floats()));
+  }
+  const auto count = r.get<std::uint64_t>("the place count");
+  // The size must fit the count before anything is allocated for it.
+  const std::uintmax_t record = kPlaceFixedBytes + std::uintmax_t(floats) * 4;
+  const std::uintmax_t body = file_size - kHeaderBytes;
+  if (file_size < kHeaderBytes + 4 || count > (body - 4) / record) {
+    r.fail("the file is too short for " + std::to_string(count) + " places (truncated?)");
+  }
+
+  std::vector<float> payload(floats);
+  for (std::uint64_t i = 0; i < count; ++i) {
+    PlaceRef p;
+    p.session = r.get<std::int32_t>("a session");
+    p.keyframe = r.get<std::int32_t>("a keyframe id");
+    const auto has_pose = r.get<std::uint8_t>("a pose flag");
+    if (has_pose > 1) r.fail("pose flag " + std::to_string(has_pose) + ", expected 0 or 1");
+    Eigen::Matrix<float, 3, 3, Eigen::RowMajor> frame;
+    r.bytes(frame.data(), 9 * sizeof(float), "a descriptor frame");
+    std::optional<Pose3x4> pose;
+    if (has_pose) {
+      Eigen::Matrix<double, 3, 4, Eigen::RowMajor> T;
+      r.bytes(T.data(), 12 * sizeof(double), "a pose");
+      pose = T;
+    }
+    r.bytes(payload.data(), payload.size() * sizeof(float), "a place payload");
+    db.add_stored(p, payload.data(), frame, pose);
+  }
+  const std::uint32_t crc = r.crc();
+  std::uint32_t stored = 0;
+  if (!in.read(reinterpret_cast<char*>(&stored), sizeof stored)) {
+    r.fail("unexpected end of file, expected the checksum");
+  }
+  if (stored != crc) r.fail("checksum mismatch: the file is corrupted");
+  if (in.peek() != std::char_traits<char>::eof()) r.fail("unexpected data after the checksum");
+  return db;
+}
+
+}  // namespace loopscan::io

@@ -1,0 +1,154 @@
+// Persistence of the place database: bit-exact round trip, and a fuzz of truncations and bit
+// flips that must all be rejected with io::InputError (never a crash, never a silent load).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <unistd.h>
+
+#include "loopscan/core/database.hpp"
+#include "loopscan/io/database_file.hpp"
+#include "loopscan/io/errors.hpp"
+
+namespace loopscan {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+void write_bytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+Signature random_place(Method m, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Signature s = Signature::Zero(rows_per_place(m), signature_columns(m));
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    if (u(rng) < 0.3) s(i) = m == Method::Delight ? std::floor(9 * u(rng)) : u(rng);
+  }
+  return s;
+}
+
+Database sample_database(Method m, int n) {
+  std::mt19937 rng(11);
+  DatabaseConfig cfg;
+  cfg.method = m;
+  Database db(cfg);
+  for (int i = 0; i < n; ++i) {
+    PlaceDescriptor d{random_place(m, rng)};
+    d.frame = Eigen::Matrix3d::Identity() * (i % 2 ? -1.0 : 1.0);
+    std::optional<Pose3x4> pose;
+    if (i % 3 == 0) pose = Pose3x4::Random();
+    db.add({i % 2, 100 + i}, d, pose);
+  }
+  return db;
+}
+
+class DatabaseFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("loopscan_dbfile_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(DatabaseFile, RoundTripIsBitExactForEveryMethod) {
+  for (Method m : {Method::ScanContext, Method::M2dp, Method::Delight}) {
+    const Database db = sample_database(m, 12);
+    io::save_database(db, path("a.db"));
+    const Database back = io::load_database(path("a.db"));
+    ASSERT_EQ(back.size(), db.size());
+    io::save_database(back, path("b.db"));
+    EXPECT_EQ(read_bytes(path("a.db")), read_bytes(path("b.db"))) << method_name(m);
+    for (std::size_t i = 0; i < db.size(); ++i) {
+      EXPECT_EQ(back.place(i), db.place(i));
+      EXPECT_EQ(back.pose(i).has_value(), db.pose(i).has_value());
+      if (db.pose(i)) {
+        EXPECT_EQ(*back.pose(i), *db.pose(i));
+      }
+      EXPECT_EQ(back.frame(i), db.frame(i));
+    }
+    // Same answers from the loaded database.
+    std::mt19937 rng(3);
+    const PlaceDescriptor q{random_place(m, rng)};
+    const auto a = db.query(q, 3), b = back.query(q, 3);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t j = 0; j < a.size(); ++j) {
+      EXPECT_EQ(a[j].index, b[j].index);
+      EXPECT_EQ(a[j].distance, b[j].distance);
+    }
+    EXPECT_FALSE(fs::exists(path("a.db") + ".tmp." + std::to_string(::getpid())));
+  }
+}
+
+TEST_F(DatabaseFile, EmptyDatabaseRoundTrips) {
+  io::save_database(Database{}, path("e.db"));
+  EXPECT_EQ(io::load_database(path("e.db")).size(), 0u);
+}
+
+TEST_F(DatabaseFile, FuzzedFilesAreRejectedNeverLoaded) {
+  const Database db = sample_database(Method::ScanContext, 6);
+  io::save_database(db, path("good.db"));
+  const std::string good = read_bytes(path("good.db"));
+  std::mt19937 rng(2024);
+  int rejected = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string bad = good;
+    if (trial % 3 == 0) {
+      bad.resize(std::uniform_int_distribution<std::size_t>(0, good.size() - 1)(rng));
+    } else {
+      const int flips = 1 + trial % 4;
+      for (int f = 0; f < flips; ++f) {
+        const std::size_t byte = std::uniform_int_distribution<std::size_t>(0, bad.size() - 1)(rng);
+        bad[byte] = static_cast<char>(bad[byte] ^ (1 << (rng() % 8)));
+      }
+    }
+    write_bytes(path("bad.db"), bad);
+    try {
+      io::load_database(path("bad.db"));
+      ADD_FAILURE() << "trial " << trial << " loaded a damaged file";
+    } catch (const io::InputError& e) {
+      ++rejected;
+      EXPECT_NE(std::string(e.what()).find("bad.db"), std::string::npos);
+    }
+  }
+  EXPECT_EQ(rejected, 300);
+  write_bytes(path("bad.db"), good + "x");
+  EXPECT_THROW(io::load_database(path("bad.db")), io::InputError);
+}
+
+TEST_F(DatabaseFile, WrongVersionMagicAndParametersHaveClearErrors) {
+  io::save_database(sample_database(Method::ScanContext, 2), path("g.db"));
+  const std::string good = read_bytes(path("g.db"));
+  auto message = [&](const std::string& bytes, const DatabaseConfig* expected = nullptr) {
+    write_bytes(path("x.db"), bytes);
+    try {
+      io::load_database(path("x.db"), expected);
+    } catch (const io::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("loaded");
+  };
+  std::string v2 = good;
+  v2[8] = 2;
+  EXPECT_NE(message(v2).find("format version 2"), std::string::npos) << message(v2);
+  EXPECT_NE(message("PK\x03\x04 not a database").find("LOOPSCDB"), std::string::npos);
+  DatabaseConfig m2dp;
+  m2dp.method = Method::M2dp;
+  EXPECT_NE(message(good, &m2dp).find("expected m2dp"), std::string::npos) << message(good, &m2dp);
+  DatabaseConfig same;
+  EXPECT_EQ(message(good, &same), "loaded");
+  EXPECT_THROW(io::load_database(path("missing.db")), io::InputError);
+}
+
+}  // namespace
+}  // namespace loopscan
