@@ -4,17 +4,64 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "loopscan/core/database.hpp"
+#include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/sim/simulated_places.hpp"
 
 namespace loopscan {
 namespace {
 
-const sim::SimulatedPlaces& city_summer() {
-  static const sim::SimulatedPlaces p = sim::simulate_places(
+const sim::SimulatedPlaces& city(sim::Season season) {
+  static const sim::SimulatedPlaces summer = sim::simulate_places(
       sim::make_builtin_trajectory("city"), sim::Season::Summer, 7, 100, Method::ScanContext, 2);
-  return p;
+  static const sim::SimulatedPlaces winter = sim::simulate_places(
+      sim::make_builtin_trajectory("city"), sim::Season::Winter, 7, 101, Method::ScanContext, 2);
+  return season == sim::Season::Summer ? summer : winter;
+}
+
+std::vector<Signature> signatures(const sim::SimulatedPlaces& p) {
+  std::vector<Signature> out;
+  for (const PlaceDescriptor& d : p.places) out.push_back(d.signature);
+  return out;
+}
+
+struct OnlineRun {
+  std::vector<eval::QueryMatch> matches;
+  std::vector<std::size_t> best;  // per query, SIZE_MAX when nothing matched
+};
+
+// Queries every place of `queries` against `db`, one at a time; `grow`: add each query to the
+// database after it was answered (streaming, same session).
+OnlineRun run_queries(const sim::SimulatedPlaces& queries, Database& db, QueryOptions opt,
+                      bool grow, bool mask_around_self) {
+  OnlineRun run;
+  for (std::size_t i = 0; i < queries.places.size(); ++i) {
+    if (mask_around_self) {
+      opt.accept = [i](std::size_t j, const PlaceRef&) {
+        return (i > j ? i - j : j - i) >= 100;
+      };
+    }
+    const auto got = db.query(queries.places[i], 1, opt);
+    if (grow) db.add({0, queries.keyframe_ids[i]}, queries.places[i]);
+    const int q = static_cast<int>(i);
+    if (got.empty()) {
+      run.matches.push_back({q, 0, std::numeric_limits<double>::infinity()});
+      run.best.push_back(SIZE_MAX);
+    } else {
+      run.matches.push_back({q, static_cast<int>(got[0].index), got[0].distance});
+      run.best.push_back(got[0].index);
+    }
+  }
+  return run;
+}
+
+double agreement(const OnlineRun& a, const OnlineRun& b) {
+  int same = 0;
+  for (std::size_t i = 0; i < a.best.size(); ++i) same += a.best[i] == b.best[i];
+  return double(same) / double(a.best.size());
 }
 
 // Ground truth: the place keyframe's forward axis in the query camera frame, yaw about -y.
@@ -24,7 +71,7 @@ double gt_yaw(const Eigen::Isometry3d& query, const Eigen::Isometry3d& place) {
 }
 
 TEST(DatabaseSim, YawAtTrueRevisitsMatchesGroundTruth) {
-  const auto& s = city_summer();
+  const auto& s = city(sim::Season::Summer);
   Database db;
   QueryOptions opt;
   opt.exclude_recent = 100;
@@ -49,6 +96,61 @@ TEST(DatabaseSim, YawAtTrueRevisitsMatchesGroundTruth) {
   // crossings seen from perpendicular directions, where the scans share little.
   EXPECT_LT(median, 3.0);
   EXPECT_LT(p75, 8.0);
+}
+
+TEST(DatabaseSim, OnlineQueriesReproduceTheOfflineEvaluation) {
+  // Same season (the map queried with its own places) and cross season (winter against the
+  // summer map): the database, exact and indexed, against the offline difference matrix.
+  for (const bool cross : {false, true}) {
+    const auto& map = city(sim::Season::Summer);
+    const auto& queries = city(cross ? sim::Season::Winter : sim::Season::Summer);
+    eval::PlaceEvaluationOptions off;
+    off.protocol = cross ? eval::cross_session_protocol() : eval::same_session_protocol();
+    const double auc_offline = eval::evaluate_places(signatures(queries), signatures(map),
+                                                     queries.positions(), map.positions(), off)
+                                   .pr.auc;
+    Database db;
+    for (std::size_t i = 0; i < map.places.size(); ++i) {
+      db.add({0, map.keyframe_ids[i]}, map.places[i]);
+    }
+    QueryOptions exact, indexed;
+    exact.retrieval = Retrieval::Exact;
+    const OnlineRun a = run_queries(queries, db, exact, false, !cross);
+    const OnlineRun b = run_queries(queries, db, indexed, false, !cross);
+    const double auc_exact =
+        eval::evaluate_matches(a.matches, queries.positions(), map.positions(), off.protocol).auc;
+    const double auc_indexed =
+        eval::evaluate_matches(b.matches, queries.positions(), map.positions(), off.protocol).auc;
+    std::printf("%s: offline AUC %.4f, database exact %.4f, indexed %.4f, top-1 agreement %.4f\n",
+                cross ? "winter vs summer" : "summer vs summer", auc_offline, auc_exact,
+                auc_indexed, agreement(a, b));
+    EXPECT_NEAR(auc_exact, auc_offline, 0.02);
+    EXPECT_NEAR(auc_indexed, auc_offline, 0.02);
+    // Regression guards at the measured level (README): across seasons ~97%; within a season
+    // most queries have no true revisit and their exact best place is arbitrary (~57%).
+    EXPECT_GE(agreement(a, b), cross ? 0.95 : 0.5);
+  }
+}
+
+TEST(DatabaseSim, StreamingRunMatchesTheCausalOfflineEvaluation) {
+  // The map grows as the drive goes; ground truth only counts revisits of earlier places.
+  const auto& s = city(sim::Season::Summer);
+  eval::Protocol causal = eval::same_session_protocol();
+  causal.past_only = true;
+  QueryOptions exact, indexed;
+  exact.retrieval = Retrieval::Exact;
+  exact.exclude_recent = indexed.exclude_recent = 99;
+  Database da, db;
+  const OnlineRun a = run_queries(s, da, exact, true, false);
+  const OnlineRun b = run_queries(s, db, indexed, true, false);
+  const double auc_exact = eval::evaluate_matches(a.matches, s.positions(), s.positions(), causal).auc;
+  const double auc_indexed =
+      eval::evaluate_matches(b.matches, s.positions(), s.positions(), causal).auc;
+  std::printf("streaming: exact AUC %.4f, indexed %.4f, top-1 agreement %.4f\n", auc_exact,
+              auc_indexed, agreement(a, b));
+  // Measured: 0.18 vs 0.21 (README); guards against regressions.
+  EXPECT_NEAR(auc_indexed, auc_exact, 0.04);
+  EXPECT_GE(agreement(a, b), 0.7);
 }
 
 }  // namespace

@@ -80,8 +80,10 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
       n - std::min<std::size_t>(n, static_cast<std::size_t>(std::max(0, options.exclude_recent)));
   const std::vector<int>& sessions = options.sessions;
   const Eligible eligible = [&](std::size_t i) {
-    return i < limit && (sessions.empty() || std::find(sessions.begin(), sessions.end(),
-                                                       places_[i].session) != sessions.end());
+    return i < limit &&
+           (sessions.empty() ||
+            std::find(sessions.begin(), sessions.end(), places_[i].session) != sessions.end()) &&
+           (!options.accept || options.accept(i, places_[i]));
   };
   if (k <= 0 || limit == 0) return {};
 

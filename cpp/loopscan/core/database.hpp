@@ -4,6 +4,7 @@
 // re-scoring of its candidates. Places carry their session, so one database serves several
 // sessions (build from summer, query from winter). No I/O here: io/database_file saves it.
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -52,6 +53,8 @@ struct QueryOptions {
   int stats_sample = 64;
   int exclude_recent = 0;     // ignore the N places added last (same-session loop closure)
   std::vector<int> sessions;  // only places of these sessions; empty: all
+  // Any further rule (insertion index, place) -> may match; empty: all places may.
+  std::function<bool(std::size_t, const PlaceRef&)> accept;
   double max_distance = std::numeric_limits<double>::infinity();
   // Uniqueness: with g = (row mean - distance), the best result is kept only if the best
   // distinct place after it has g_second <= ratio * g_best. 1 disables the test. A place is

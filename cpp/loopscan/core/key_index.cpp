@@ -9,20 +9,19 @@ namespace loopscan {
 namespace {
 
 struct PayloadKeys {
-  KeyLayout layout;
-  const PayloadArena* data = nullptr;
-  std::size_t count = 0;
-  std::size_t kdtree_get_point_count() const { return count; }
-  float kdtree_get_pt(std::uint32_t i, std::size_t d) const {
-    return data->at(i)[layout.offset + d * layout.step];
-  }
+  int dims = 0;
+  std::vector<float> keys;      // dims per place
+  std::size_t count = 0;        // places added
+  std::size_t tree_count = 0;   // places in the tree (the first ones)
+  std::size_t kdtree_get_point_count() const { return tree_count; }
+  float kdtree_get_pt(std::uint32_t i, std::size_t d) const { return keys[i * dims + d]; }
   template <class Box>
   bool kdtree_get_bbox(Box&) const {
     return false;
   }
 };
 
-using Tree = nanoflann::KDTreeSingleIndexDynamicAdaptor<
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<
     nanoflann::L2_Simple_Adaptor<float, PayloadKeys, float, std::uint32_t>, PayloadKeys, -1,
     std::uint32_t>;
 
@@ -39,17 +38,23 @@ class EligibleKnn {
   std::size_t size() const { return items_.size(); }
   bool full() const { return items_.size() == capacity_; }
   float worstDist() const {
-    return full() ? items_.back().first : std::numeric_limits<float>::max();
+    return full() ? items_.front().first : std::numeric_limits<float>::max();
   }
   bool addPoint(float dist, std::uint32_t index) {
-    if (full() && dist >= items_.back().first) return true;
+    if (full() && dist >= items_.front().first) return true;
     if (!eligible_(index)) return true;
-    const std::pair<float, std::size_t> item{dist, index};
-    items_.insert(std::upper_bound(items_.begin(), items_.end(), item), item);
-    if (items_.size() > capacity_) items_.pop_back();
+    items_.emplace_back(dist, index);  // max-heap on distance: the worst kept is in front
+    std::push_heap(items_.begin(), items_.end());
+    if (items_.size() > capacity_) {
+      std::pop_heap(items_.begin(), items_.end());
+      items_.pop_back();
+    }
     return true;
   }
-  std::vector<std::pair<float, std::size_t>>& items() { return items_; }
+  std::vector<std::pair<float, std::size_t>>& sorted_items() {
+    std::sort_heap(items_.begin(), items_.end());
+    return items_;
+  }
 
  private:
   std::size_t capacity_;
@@ -59,26 +64,32 @@ class EligibleKnn {
 
 }  // namespace
 
+// One static tree over the first places plus a short tail searched by brute force; the tree
+// is rebuilt when the tail reaches half its size (amortised O(log n) per added place). A
+// single tree searches several times faster than nanoflann's dynamic forest of log2(n) trees.
 struct KeyIndex::Impl {
   PayloadKeys keys;
-  Tree tree;
-  Impl(const KeyLayout& layout, const PayloadArena* data)
-      : keys{layout, data, 0},
-        tree(layout.dims, keys, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {}
+  std::unique_ptr<Tree> tree;
+  explicit Impl(int dims) : keys{dims, {}, 0, 0} {}
+  void rebuild() {
+    keys.tree_count = keys.count;
+    tree = std::make_unique<Tree>(keys.dims, keys, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+    tree->buildIndex();
+  }
 };
 
-KeyIndex::KeyIndex(const KeyLayout& layout, const PayloadArena* data)
-    : impl_(std::make_unique<Impl>(layout, data)) {}
+KeyIndex::KeyIndex(int dims) : impl_(std::make_unique<Impl>(dims)) {}
 KeyIndex::~KeyIndex() = default;
 
-void KeyIndex::extend(std::size_t n) {
-  const std::size_t start = impl_->keys.count;
-  if (n <= start) return;
-  impl_->keys.count = n;
-  impl_->tree.addPoints(static_cast<std::uint32_t>(start), static_cast<std::uint32_t>(n - 1));
+void KeyIndex::add(const float* key) {
+  PayloadKeys& k = impl_->keys;
+  k.keys.insert(k.keys.end(), key, key + k.dims);
+  ++k.count;
+  if (k.count - k.tree_count > std::max<std::size_t>(64, k.tree_count / 2)) impl_->rebuild();
 }
 
-std::size_t KeyIndex::indexed() const { return impl_->keys.count; }
+std::size_t KeyIndex::size() const { return impl_->keys.count; }
+int KeyIndex::dims() const { return impl_->keys.dims; }
 
 void KeyIndex::nearest(const float* key, std::size_t count,
                        const std::function<bool(std::size_t)>& eligible,
@@ -86,15 +97,21 @@ void KeyIndex::nearest(const float* key, std::size_t count,
   out.clear();
   if (count == 0 || impl_->keys.count == 0) return;
   EligibleKnn result(count, eligible);
-  impl_->tree.findNeighbors(result, key, nanoflann::SearchParams());
-  out.swap(result.items());
+  const PayloadKeys& k = impl_->keys;
+  if (impl_->tree) impl_->tree->findNeighbors(result, key, nanoflann::SearchParams());
+  for (std::size_t i = k.tree_count; i < k.count; ++i) {
+    float d = 0;
+    for (int t = 0; t < k.dims; ++t) d += (key[t] - k.keys[i * k.dims + t]) * (key[t] - k.keys[i * k.dims + t]);
+    result.addPoint(d, static_cast<std::uint32_t>(i));
+  }
+  out.swap(result.sorted_items());
 }
 
 std::size_t KeyIndex::memory_bytes() const {
-  // Point ids (uint32) and tree membership (int) per place, plus about one node per leaf of
-  // 16 points in the forest.
+  // The keys and a point id (uint32) per place, plus about one node per leaf of 16 points.
   const std::size_t n = impl_->keys.count;
-  return n * (sizeof(std::uint32_t) + sizeof(int)) + (n / 8 + 1) * 64;
+  return impl_->keys.keys.capacity() * sizeof(float) + n * sizeof(std::uint32_t) +
+         (n / 8 + 1) * 64;
 }
 
 }  // namespace loopscan

@@ -38,7 +38,7 @@ class M2dpStore final : public PlaceStore {
   explicit M2dpStore(int columns)
       : PlaceStore(kVersions * static_cast<std::size_t>(std::max(columns, 0))),
         half_(columns / 2),
-        index_({half_, 0, 1}, &arena_) {
+        index_(std::max(half_, 1)) {
     if (columns <= 0 || columns % 2 != 0) {
       throw std::invalid_argument("M2DP signatures need an even, positive column count");
     }
@@ -56,7 +56,9 @@ class M2dpStore final : public PlaceStore {
       for (int c = 0; c < 2 * half_; ++c) payload[v * 2 * half_ + c] = static_cast<float>(s(v, c));
     }
   }
-  void indexed_up_to(std::size_t n) override { index_.extend(n); }
+  void indexed_up_to(std::size_t n) override {
+    for (std::size_t i = index_.size(); i < n; ++i) index_.add(arena_.at(i));  // version 0, structure
+  }
 
   std::unique_ptr<Query> prepare(const Signature& s) const override {
     auto q = std::make_unique<RowsQuery>();

@@ -3,6 +3,7 @@
 // other, and the pair kernel the place database runs on them. Keeping a place contiguous lets
 // the database score any subset of places (index candidates) as fast as all of them; the
 // packing makes a place exactly as large as its signature (2 R S floats).
+#include <cmath>
 #include <vector>
 
 #include "loopscan/core/config.hpp"
@@ -50,10 +51,19 @@ class ScanContextSpectra {
   // ties go to the smaller shift, unmirrored first.
   SectorAlignment align(const Query& query, const float* place, int half) const;
 
-  // The ring key of a packed place: per ring the sector sum of the normalised structure half,
-  // invariant to shifts and mirroring (it is Re X_0, the first value of each packed ring).
-  float ring_key(const float* place, int ring) const {
-    return place[static_cast<std::size_t>(ring) * sectors_];
+  // The index key of a packed place, invariant to sector shifts and mirroring: for both halves
+  // and every ring, the sector sum (Re X_0, Scan Context's ring key) followed by the magnitudes
+  // sqrt(2) |X_f| of the first `frequencies` harmonics. Its squared distance is the energy
+  // the two rings cannot share whatever the shift, so nearest keys bound the best dots.
+  static int key_dims(int rings, int frequencies) { return 2 * rings * (1 + frequencies); }
+  float key(const float* place, std::size_t d, int frequencies) const {
+    const int per_ring = 1 + frequencies;
+    const std::size_t ring = d / per_ring;  // over both halves: half * R + r
+    const int f = static_cast<int>(d % per_ring);
+    const float* x = place + ring * sectors_;
+    if (f == 0) return x[0];
+    const float re = x[f], im = x[sectors_ / 2 + f];
+    return 1.41421356f * std::sqrt(re * re + im * im);
   }
 
  private:

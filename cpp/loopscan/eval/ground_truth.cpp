@@ -20,7 +20,7 @@ GroundTruth compute_ground_truth(const std::vector<Eigen::Vector3d>& query_pos,
     double best_sq = std::numeric_limits<double>::infinity();
     int best = -1;
     for (int j = 0; j < n_db; ++j) {
-      if (std::abs(i - j) < protocol.mask_width) continue;
+      if (std::abs(i - j) < protocol.mask_width || (protocol.past_only && j > i)) continue;
       const double d_sq = (query_pos[i] - db_pos[j]).squaredNorm();
       // Strict '<' keeps the first j on ties and never picks NaN.
       if (d_sq < best_sq) {

@@ -7,9 +7,12 @@ namespace loopscan::eval {
 
 // threshold_m: a prediction / nearest reference closer than this is a loop.
 // mask_width: pairs with |i - j| < mask_width are excluded from ground truth and matching.
+// past_only: a streaming run, where query i can only match places j < i (the database grows
+// as the drive goes); ground truth then only counts revisits of earlier places.
 struct Protocol {
   double threshold_m = 10.0;
   int mask_width = 100;
+  bool past_only = false;
 };
 inline Protocol same_session_protocol() { return {10.0, 100}; }  // KITTI
 inline Protocol cross_session_protocol() { return {25.0, 0}; }   // RobotCar

@@ -1,0 +1,46 @@
+#include "loopscan/core/recognizer.hpp"
+
+namespace loopscan {
+
+RecognizerConfig RecognizerConfig::make(Method method, Mode mode, double range_m) {
+  RecognizerConfig c;
+  c.method = method;
+  c.imitation.mode = mode;
+  c.imitation.range_m = range_m;
+  c.descriptors = DescriptorConfig::for_mode(mode, range_m);
+  c.database.method = method;
+  c.database.scan_context = c.descriptors.scan_context;
+  c.query.exclude_recent = 99;
+  return c;
+}
+
+Recognizer::Recognizer(const RecognizerConfig& config)
+    : Recognizer(config, Database(config.database)) {}
+
+Recognizer::Recognizer(const RecognizerConfig& config, Database map)
+    : config_(config), imitator_(config.imitation), db_(std::move(map)) {}
+
+KeyframeResult Recognizer::add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
+                                        std::size_t n_points, bool reset) {
+  KeyframeResult result;
+  // 1. Imitate the scan around the keyframe (and filter it as the descriptor expects).
+  const ScanFilter filter = filter_for(config_.method);
+  Cloud scan;
+  if (config_.imitation.mode == Mode::Reference) {
+    if (!imitator_.add_keyframe(keyframe, points, n_points, reset, in_range_)) return result;
+    scan = filter_scan(in_range_, filter, config_.imitation);
+  } else {
+    if (!imitator_.add_keyframe(keyframe, points, n_points, reset, in_range_fast_)) return result;
+    scan = filter_camera_points(in_range_fast_, filter, config_.imitation);
+  }
+  // 2. Describe it.
+  PlaceDescriptor place;
+  place.signature = describe(config_.method, scan, config_.descriptors, &place.frame);
+  // 3. Query the map, 4. then join it.
+  result.described = true;
+  result.matches = db_.query(place, config_.k, config_.query);
+  db_.add({config_.session, keyframe.id}, place, keyframe.T_cam_world);
+  return result;
+}
+
+}  // namespace loopscan
