@@ -249,5 +249,62 @@ TEST(Cli, SimulateIsByteIdenticalForTheSameSeed) {
             file_bytes(d / "c" / "pts_history_file.txt"));
 }
 
+TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
+  const fs::path d = temp_dir("db");
+  for (const char* season : {"summer", "fall"}) {
+    const std::string sim = (d / season).string();
+    ASSERT_EQ(run(std::string("simulate --trajectory builtin:short --seed 3 --season ") + season +
+                  " --out " + sim)
+                  .code,
+              0);
+    const CliResult r = run("describe --method sc --poses " + sim + "/poses_history_file.txt" +
+                            " --points " + sim + "/pts_history_file.txt --out " + sim + "/sc");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(sim + "/sc/frames.txt"));
+  }
+  const std::string summer = (d / "summer").string(), fall = (d / "fall").string();
+  const std::string db = (d / "map.db").string();
+  CliResult r = run("db build --signatures " + summer + "/sc --gt " + summer + "/gt.txt --out " + db);
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run("db query --db " + db + " --signatures " + fall + "/sc --gt " + fall +
+          "/gt.txt --exact --k 3 --out " + (d / "q").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run("evaluate --method sc --signatures " + fall + "/sc --gt " + fall + "/gt.txt --against " +
+          summer + "/sc --gt2 " + summer + "/gt.txt --out " + (d / "ev").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  nlohmann::json online, offline;
+  std::ifstream(d / "q/metrics.json") >> online;
+  std::ifstream(d / "ev/metrics.json") >> offline;
+  // Exact database queries against the whole map are the offline difference-matrix rows.
+  EXPECT_NEAR(online["auc"].get<double>(), offline["auc"].get<double>(), 1e-6);
+  EXPECT_EQ(online["n_gt_loops"], offline["n_gt_loops"]);
+  std::ifstream csv(d / "q/candidates.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "query_id,rank,session,keyframe,distance,yaw_deg,mirrored");
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 3 * online["n_queries"].get<int>());
+  EXPECT_FALSE(has_temp_files(d));
+
+  // Bad input: a damaged database, a --gt count that does not match.
+  std::string bytes;
+  {
+    std::ifstream in(db, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 4);
+  write(d / "bad.db", bytes);
+  r = run("db query --db " + (d / "bad.db").string() + " --signatures " + fall + "/sc --out " +
+          (d / "q2").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("checksum"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "q2" / "candidates.csv"));
+  r = run("db build --signatures " + summer + "/sc --signatures " + fall + "/sc --gt " + summer +
+          "/gt.txt --out " + (d / "x.db").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_FALSE(fs::exists(d / "x.db"));
+}
+
 }  // namespace
 }  // namespace loopscan

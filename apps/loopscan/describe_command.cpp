@@ -1,4 +1,5 @@
-// loopscan describe: SO-DSO poses + points -> signatures.txt, incoming_id_file.txt, timing.json
+// loopscan describe: SO-DSO poses + points -> signatures.txt, incoming_id_file.txt, frames.txt,
+// timing.json
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -63,6 +64,12 @@ void run_describe(const DescribeArgs& a) {
   std::filesystem::create_directories(a.out);
   io::write_matrix_text(a.out + "/signatures.txt", stack(result.signatures, method));
   io::write_incoming_ids(a.out + "/incoming_id_file.txt", result.keyframe_ids);
+  // Descriptor axes per place (row-major 3x3): `db` turns Scan Context shifts into yaw with them.
+  Eigen::MatrixXd frames(static_cast<Eigen::Index>(result.frames.size()), 9);
+  for (std::size_t i = 0; i < result.frames.size(); ++i) {
+    for (int k = 0; k < 9; ++k) frames(static_cast<Eigen::Index>(i), k) = result.frames[i](k / 3, k % 3);
+  }
+  io::write_matrix_text(a.out + "/frames.txt", frames);
   const nlohmann::json timing = {
       {"method", method_name(method)},
       {"mode", mode_name(mode)},

@@ -7,8 +7,7 @@
 
 #include "commands.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
-#include "loopscan/io/atomic_file.hpp"
-#include "loopscan/report/pr_plot.hpp"
+#include "evaluation_outputs.hpp"
 #include "options.hpp"
 #include "signature_set.hpp"
 
@@ -21,29 +20,6 @@ struct EvaluateArgs {
   double threshold_m = -1;
   int mask = -1;
 };
-
-void write_outputs(const std::string& dir, const SignatureSet& queries, const SignatureSet& db,
-                   const eval::PlaceEvaluation& ev, const nlohmann::json& metrics,
-                   const std::string& title) {
-  std::filesystem::create_directories(dir);
-  io::write_file_atomic(dir + "/metrics.json", metrics.dump(1) + "\n");
-  std::ostringstream pr, matches;
-  pr.precision(10);
-  matches.precision(10);
-  pr << "rank,precision,recall\n";
-  for (std::size_t k = 0; k < ev.pr.curve.size(); ++k) {
-    pr << k + 1 << ',' << ev.pr.curve[k].precision << ',' << ev.pr.curve[k].recall << '\n';
-  }
-  matches << "query_id,matched_id,distance,is_true\n";
-  for (const eval::RankedMatch& r : ev.pr.ranked) {
-    matches << queries.keyframe_ids[r.m.query] << ',' << db.keyframe_ids[r.m.match] << ','
-            << r.m.distance << ',' << (r.is_true ? 1 : 0) << '\n';
-  }
-  io::write_file_atomic(dir + "/pr.csv", pr.str());
-  io::write_file_atomic(dir + "/matches.csv", matches.str());
-  const report::Series curve = report::pr_series(ev.pr.curve, title);
-  io::write_file_atomic(dir + "/pr.svg", report::pr_curve_svg({curve}, title));
-}
 
 void run_evaluate(const EvaluateArgs& a) {
   const Method method = parse_method(a.method);
@@ -91,7 +67,7 @@ void run_evaluate(const EvaluateArgs& a) {
       {"n_gt_loops", ev.pr.n_gt_loops},
       {"query_ms", ev.query_ms}};
   const std::string title = method_name(method) + " (" + metrics["fusion"].get<std::string>() + ")";
-  write_outputs(a.out, queries, db, ev, metrics, title);
+  write_evaluation(a.out, queries.keyframe_ids, db.keyframe_ids, ev.pr, metrics, title);
   std::printf(
       "%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, "
       "%.3f ms per query -> %s\n",

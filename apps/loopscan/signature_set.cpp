@@ -33,6 +33,19 @@ SignatureSet load_signature_set(const std::string& path, Method method,
   for (std::size_t i = 0; i < set.keyframe_ids.size(); ++i) {
     set.places.push_back(all.middleRows(static_cast<Eigen::Index>(i) * rows, rows));
   }
+  set.frames.assign(set.places.size(), Eigen::Matrix3d::Identity());
+  const std::string frames_file = (fs::path(id_file).parent_path() / "frames.txt").string();
+  if (fs::exists(frames_file)) {
+    const Eigen::MatrixXd f = io::read_matrix_text(frames_file, 9);
+    if (f.rows() != static_cast<Eigen::Index>(set.places.size())) {
+      throw io::InputError(frames_file, 0,
+                           std::to_string(set.places.size()) + " rows (one per id in " + id_file +
+                               "), found " + std::to_string(f.rows()));
+    }
+    for (std::size_t i = 0; i < set.frames.size(); ++i) {
+      for (int k = 0; k < 9; ++k) set.frames[i](k / 3, k % 3) = f(static_cast<Eigen::Index>(i), k);
+    }
+  }
   return set;
 }
 

@@ -11,6 +11,8 @@ struct SignatureSet {
   std::vector<Signature> places;
   std::vector<int> keyframe_ids;
   std::vector<Eigen::Vector3d> positions;  // ground truth of each place
+  // Descriptor axes in the camera frame (frames.txt of a describe output; identity without).
+  std::vector<Eigen::Matrix3d> frames;
 };
 
 // `path` is a `describe` output directory (signatures.txt[.gz] + incoming_id_file.txt) or a

@@ -1,0 +1,35 @@
+#include "evaluation_outputs.hpp"
+
+#include <filesystem>
+#include <sstream>
+
+#include "loopscan/io/atomic_file.hpp"
+#include "loopscan/report/pr_plot.hpp"
+
+namespace loopscan::cli {
+
+void write_evaluation(const std::string& dir, const std::vector<int>& query_ids,
+                      const std::vector<int>& db_ids, const eval::PrResult& pr,
+                      const nlohmann::json& metrics, const std::string& title) {
+  std::filesystem::create_directories(dir);
+  io::write_file_atomic(dir + "/metrics.json", metrics.dump(1) + "\n");
+  std::ostringstream curve, matches;
+  curve.precision(10);
+  matches.precision(10);
+  curve << "rank,precision,recall\n";
+  for (std::size_t k = 0; k < pr.curve.size(); ++k) {
+    curve << k + 1 << ',' << pr.curve[k].precision << ',' << pr.curve[k].recall << '\n';
+  }
+  matches << "query_id,matched_id,distance,is_true\n";
+  for (const eval::RankedMatch& r : pr.ranked) {
+    const bool known = r.m.match >= 0 && static_cast<std::size_t>(r.m.match) < db_ids.size();
+    matches << query_ids[r.m.query] << ',' << (known ? db_ids[r.m.match] : -1) << ','
+            << r.m.distance << ',' << (r.is_true ? 1 : 0) << '\n';
+  }
+  io::write_file_atomic(dir + "/pr.csv", curve.str());
+  io::write_file_atomic(dir + "/matches.csv", matches.str());
+  const report::Series series = report::pr_series(pr.curve, title);
+  io::write_file_atomic(dir + "/pr.svg", report::pr_curve_svg({series}, title));
+}
+
+}  // namespace loopscan::cli
