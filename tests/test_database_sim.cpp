@@ -8,6 +8,10 @@
 #include <limits>
 
 #include "loopscan/core/database.hpp"
+#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/core/recognizer.hpp"
+#include "loopscan/sim/vo_simulator.hpp"
+#include "loopscan/sim/world.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/sim/simulated_places.hpp"
 
@@ -151,6 +155,50 @@ TEST(DatabaseSim, StreamingRunMatchesTheCausalOfflineEvaluation) {
   // Measured: 0.18 vs 0.21 (README); guards against regressions.
   EXPECT_NEAR(auc_indexed, auc_exact, 0.04);
   EXPECT_GE(agreement(a, b), 0.7);
+}
+
+}  // namespace
+}  // namespace loopscan
+
+namespace loopscan {
+namespace {
+
+TEST(Recognizer, StreamingEqualsDescribeThenQuery) {
+  const sim::Trajectory route = sim::make_builtin_trajectory("short");
+  const std::vector<int> keyframes = sim::select_keyframes(route);
+  const sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
+  const sim::VoOutput vo = sim::simulate_vo(route, keyframes, world,
+                                            sim::Conditions::for_season(sim::Season::Summer),
+                                            sim::StereoCamera{}, sim::VoSimConfig{});
+  const SequenceSignatures offline = describe_sequence(
+      vo.poses, vo.points, SequenceOptions::make(Method::ScanContext, Mode::Default));
+
+  RecognizerConfig config = RecognizerConfig::make(Method::ScanContext);
+  config.k = 3;
+  Recognizer recognizer(config);
+  Database replay(config.database);
+  std::size_t next = 0, described = 0;
+  for (const KeyframePose& k : vo.poses) {
+    const std::size_t first = next;
+    while (next < vo.points.size() && vo.points[next].id <= k.id) ++next;
+    const KeyframeResult r = recognizer.add_keyframe(k, vo.points.data() + first, next - first);
+    if (!r.described) continue;
+    // The same place as the offline tool, and the same answer as querying before adding it.
+    ASSERT_LT(described, offline.signatures.size());
+    EXPECT_EQ(offline.keyframe_ids[described], k.id);
+    const PlaceDescriptor place{offline.signatures[described], offline.frames[described]};
+    const auto want = replay.query(place, config.k, config.query);
+    replay.add({0, k.id}, place);
+    ASSERT_EQ(r.matches.size(), want.size()) << "keyframe " << k.id;
+    for (std::size_t j = 0; j < want.size(); ++j) {
+      EXPECT_EQ(r.matches[j].index, want[j].index);
+      EXPECT_DOUBLE_EQ(r.matches[j].distance, want[j].distance);
+    }
+    ++described;
+  }
+  EXPECT_EQ(described, offline.signatures.size());
+  EXPECT_EQ(recognizer.database().size(), described);
+  ASSERT_TRUE(recognizer.database().pose(0).has_value());  // keyframe poses are kept
 }
 
 }  // namespace
