@@ -247,6 +247,23 @@ TEST(Database, IndexedFindsANoisyCopyOfAStoredPlace) {
   }
 }
 
+TEST(Database, ThreadedExactSearchGivesTheSameResults) {
+  std::mt19937 rng(8);
+  Database db;
+  for (int i = 0; i < 600; ++i) db.add({0, i}, {random_signature(Method::ScanContext, rng)});
+  QueryOptions one, two;
+  one.retrieval = two.retrieval = Retrieval::Exact;
+  two.threads = 2;
+  const PlaceDescriptor q{random_signature(Method::ScanContext, rng)};
+  const auto a = db.query(q, 5, one), b = db.query(q, 5, two);
+  ASSERT_EQ(a.size(), 5u);
+  ASSERT_EQ(b.size(), 5u);
+  for (int j = 0; j < 5; ++j) {
+    EXPECT_EQ(a[j].index, b[j].index);
+    EXPECT_EQ(a[j].distance, b[j].distance);
+  }
+}
+
 TEST(Database, OptionsFilterAndTheUniquenessTest) {
   std::mt19937 rng(3);
   Database db;

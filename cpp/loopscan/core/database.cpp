@@ -6,6 +6,7 @@
 
 #include <Eigen/LU>
 
+#include "loopscan/core/parallel.hpp"
 #include "loopscan/core/place_store.hpp"
 
 namespace loopscan {
@@ -101,9 +102,14 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
   if (scored.empty()) return {};
   const int C = store_->components();
   std::vector<double> raw(scored.size() * C);
-  for (std::size_t j = 0; j < scored.size(); ++j) {
-    store_->distances(*query, payload(scored[j]), &raw[j * C]);
-  }
+  // Exact search over many places may use several threads (results identical: each place's
+  // distances are computed the same way whichever thread does it).
+  const int threads = scored.size() >= 256 ? std::max(1, options.threads) : 1;
+  run_on_threads(threads, [&](int t) {
+    for (std::size_t j = static_cast<std::size_t>(t); j < scored.size(); j += threads) {
+      store_->distances(*query, payload(scored[j]), &raw[j * C]);
+    }
+  });
 
   // Row statistics: the whole eligible row, or a sample of it spread over the database.
   const bool fused = C == 2 && config_.fusion == Fusion::Fused;
@@ -143,11 +149,18 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
   auto better = [](const Candidate& a, const Candidate& b) {
     return a.distance < b.distance || (a.distance == b.distance && a.index < b.index);
   };
-  std::sort(ranked.begin(), ranked.end(), better);
+  // Only the head of the ranking is needed: the k results, and for the uniqueness test the
+  // best distinct place, almost always among the first few dozen (else sort it all).
+  std::size_t head = std::min(ranked.size(), static_cast<std::size_t>(k) + 64);
+  std::partial_sort(ranked.begin(), ranked.begin() + head, ranked.end(), better);
 
   if (options.uniqueness_ratio < 1.0) {
-    const Candidate& best = ranked.front();
     for (std::size_t j = 1; j < ranked.size(); ++j) {
+      if (j == head) {
+        std::sort(ranked.begin() + head, ranked.end(), better);
+        head = ranked.size();
+      }
+      const Candidate& best = ranked.front();
       const PlaceRef& p = ranked[j].place;
       const bool distinct = p.session != best.place.session ||
                             std::abs(p.keyframe - best.place.keyframe) > options.distinct_gap;
@@ -159,7 +172,8 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
   }
 
   std::vector<Candidate> out;
-  for (const Candidate& c : ranked) {
+  for (std::size_t j = 0; j < head; ++j) {
+    const Candidate& c = ranked[j];
     if (static_cast<int>(out.size()) == k || c.distance > options.max_distance) break;
     out.push_back(c);
   }

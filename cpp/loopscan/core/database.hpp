@@ -62,6 +62,8 @@ struct QueryOptions {
   // keyframes away. A query that fails returns no results.
   double uniqueness_ratio = 1.0;
   int distinct_gap = 50;
+  // Threads scoring the places of an exact search (1: the caller's thread only).
+  int threads = 1;
 };
 
 struct Candidate {

@@ -1,17 +1,19 @@
 // DELIGHT places: the 16 region histograms in float plus their totals. The index is a coarse
-// prefilter: the histogram of the whole place (regions summed, so invariant to the PCA sign
-// flips) in 16 wide bins, compared by chi-square against every eligible place.
+// prefilter compared by chi-square against every eligible place: the regions summed over the
+// orbits of the four sign-flip permutations (r -> r ^ m, m in {0, 5, 6, 3}: 4 orbits of 4
+// regions, so the key is invariant to the flips), each in 16 wide bins.
 #include <algorithm>
 #include <stdexcept>
 #include <string>
 
 #include "loopscan/core/delight_packed.hpp"
+#include "loopscan/core/pair_distance.hpp"
 #include "loopscan/core/place_store.hpp"
 
 namespace loopscan {
 namespace {
 
-constexpr int kCoarseBins = 16;
+constexpr int kOrbits = 4, kOrbitBins = 16, kCoarseBins = kOrbits * kOrbitBins;
 
 class DelightStore final : public PlaceStore {
   struct HistogramQuery : Query {
@@ -88,11 +90,24 @@ class DelightStore final : public PlaceStore {
   DelightTotals totals(const float* p) const {
     return {p[kDelightRegions * bins_], p[kDelightRegions * bins_ + 1]};
   }
+  // Orbit of region r under the flips: ranked by its smallest member.
+  static int orbit(int r) {
+    int lo = r;
+    for (int m : kDelightRegionMasks) lo = std::min(lo, r ^ m);
+    int rank = 0;
+    for (int q = 0; q < lo; ++q) {
+      int q_lo = q;
+      for (int m : kDelightRegionMasks) q_lo = std::min(q_lo, q ^ m);
+      rank += q_lo == q;
+    }
+    return rank;
+  }
   void coarse_of(const float* p, float* c) const {
     std::fill(c, c + kCoarseBins, 0.f);
-    const int width = (columns_ + kCoarseBins - 1) / kCoarseBins;
+    const int width = (columns_ + kOrbitBins - 1) / kOrbitBins;
     for (int r = 0; r < kDelightRegions; ++r) {
-      for (int b = 0; b < columns_; ++b) c[b / width] += p[r * bins_ + b];
+      float* o = c + orbit(r) * kOrbitBins;
+      for (int b = 0; b < columns_; ++b) o[b / width] += p[r * bins_ + b];
     }
     const float total = p[kDelightRegions * bins_];
     if (total > 0) {
