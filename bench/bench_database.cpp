@@ -95,7 +95,8 @@ double top1_agreement(Method m, const Database& db) {
   QueryOptions exact, indexed;
   exact.retrieval = Retrieval::Exact;
   int agree = 0, total = 0;
-  for (std::size_t i = 0; i < q.size() && total < 200; i += std::max<std::size_t>(1, q.size() / 200)) {
+  for (std::size_t i = 0; i < q.size() && total < 200;
+       i += std::max<std::size_t>(1, q.size() / 200)) {
     const auto a = db.query(q[i], 1, exact), b = db.query(q[i], 1, indexed);
     agree += !a.empty() && !b.empty() && a[0].index == b[0].index;
     ++total;
@@ -116,8 +117,9 @@ void BM_DatabaseQuery(benchmark::State& state) {
   for (auto _ : state) {
     benchmark::DoNotOptimize(b.db->query(queries[i++ % queries.size()], 5, opt).data());
   }
-  state.counters["per_item"] = benchmark::Counter(
-      static_cast<double>(state.iterations()), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  state.counters["per_item"] =
+      benchmark::Counter(static_cast<double>(state.iterations()),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["bytes_per_place"] = b.bytes_per_place;
   if (retrieval == Retrieval::Indexed) {
     if (b.top1_agree < 0 && !std::getenv("NO_AGREE")) b.top1_agree = top1_agreement(m, *b.db);

@@ -264,7 +264,8 @@ TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
   }
   const std::string summer = (d / "summer").string(), fall = (d / "fall").string();
   const std::string db = (d / "map.db").string();
-  CliResult r = run("db build --signatures " + summer + "/sc --gt " + summer + "/gt.txt --out " + db);
+  CliResult r =
+      run("db build --signatures " + summer + "/sc --gt " + summer + "/gt.txt --out " + db);
   ASSERT_EQ(r.code, 0) << r.output;
   r = run("db query --db " + db + " --signatures " + fall + "/sc --gt " + fall +
           "/gt.txt --exact --k 3 --out " + (d / "q").string());

@@ -238,7 +238,8 @@ TEST(Database, IndexedFindsANoisyCopyOfAStoredPlace) {
     for (int i = 0; i < 400; i += 20) {
       Signature q = sigs[i];
       for (Eigen::Index j = 0; j < q.size(); ++j) {
-        if (q(j) != 0) q(j) = std::max(0.0, q(j) + (m == Method::M2dp ? noise(rng) : 0.5 * noise(rng)));
+        if (q(j) != 0)
+          q(j) = std::max(0.0, q(j) + (m == Method::M2dp ? noise(rng) : 0.5 * noise(rng)));
       }
       const auto got = db.query({q}, 1);
       hits += !got.empty() && got[0].index == static_cast<std::size_t>(i);
@@ -269,7 +270,8 @@ TEST(Database, OptionsFilterAndTheUniquenessTest) {
   Database db;
   const Signature a = random_signature(Method::ScanContext, rng);
   for (int i = 0; i < 30; ++i) {
-    db.add({i < 20 ? 0 : 1, i}, {i == 5 || i == 25 ? a : random_signature(Method::ScanContext, rng)});
+    db.add({i < 20 ? 0 : 1, i},
+           {i == 5 || i == 25 ? a : random_signature(Method::ScanContext, rng)});
   }
   QueryOptions opt;
   opt.retrieval = Retrieval::Exact;
@@ -316,8 +318,8 @@ TEST(Database, YawOfARotatedScanIsTheRotation) {
     // A point fixed in the world: p_query = R p_place, with R the inverse of the query's turn.
     const Eigen::Matrix3d R = Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitY()).toRotationMatrix();
     PlaceDescriptor q;
-    q.signature = describe(Method::ScanContext, test::transformed(base, R, {0.3, 0, -0.4}), cfg,
-                           &q.frame);
+    q.signature =
+        describe(Method::ScanContext, test::transformed(base, R, {0.3, 0, -0.4}), cfg, &q.frame);
     const auto got = db.query(q, 1);
     ASSERT_EQ(got.size(), 1u);
     // Forward of the place keyframe (+z) in the query frame is R e_z.
@@ -336,7 +338,8 @@ TEST(Database, RelativeYawComposesWithTheFrames) {
   EXPECT_NEAR(std::abs(y10), 10 * 2 * M_PI / 60, 1e-9);
   EXPECT_NEAR(relative_yaw(B0, B0, 50, false, 60), -y10, 1e-9);
   // Both frames turned by the same yaw: the relative yaw does not change.
-  const Eigen::Matrix3d B = B0 * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Matrix3d B =
+      B0 * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()).toRotationMatrix();
   EXPECT_NEAR(wrap(relative_yaw(B, B, 10, false, 60) - y10), 0.0, 1e-9);
   // Only the place's frame turned by 0.4: the yaw moves by 0.4 one way or the other.
   EXPECT_NEAR(std::abs(wrap(relative_yaw(B0, B, 0, false, 60))), 0.4, 1e-9);

@@ -10,10 +10,10 @@
 #include "loopscan/core/database.hpp"
 #include "loopscan/core/describe_sequence.hpp"
 #include "loopscan/core/recognizer.hpp"
-#include "loopscan/sim/vo_simulator.hpp"
-#include "loopscan/sim/world.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/sim/simulated_places.hpp"
+#include "loopscan/sim/vo_simulator.hpp"
+#include "loopscan/sim/world.hpp"
 
 namespace loopscan {
 namespace {
@@ -44,9 +44,7 @@ OnlineRun run_queries(const sim::SimulatedPlaces& queries, Database& db, QueryOp
   OnlineRun run;
   for (std::size_t i = 0; i < queries.places.size(); ++i) {
     if (mask_around_self) {
-      opt.accept = [i](std::size_t j, const PlaceRef&) {
-        return (i > j ? i - j : j - i) >= 100;
-      };
+      opt.accept = [i](std::size_t j, const PlaceRef&) { return (i > j ? i - j : j - i) >= 100; };
     }
     const auto got = db.query(queries.places[i], 1, opt);
     if (grow) db.add({0, queries.keyframe_ids[i]}, queries.places[i]);
@@ -86,8 +84,8 @@ TEST(DatabaseSim, YawAtTrueRevisitsMatchesGroundTruth) {
     if (got.empty()) continue;
     const std::size_t j = got[0].index;
     if ((s.T_world_cam[i].translation() - s.T_world_cam[j].translation()).norm() > 5.0) continue;
-    const double e = std::remainder(got[0].yaw_rad - gt_yaw(s.T_world_cam[i], s.T_world_cam[j]),
-                                    2 * M_PI);
+    const double e =
+        std::remainder(got[0].yaw_rad - gt_yaw(s.T_world_cam[i], s.T_world_cam[j]), 2 * M_PI);
     errors_deg.push_back(std::abs(e) * 180 / M_PI);
   }
   ASSERT_GE(errors_deg.size(), 50u);
@@ -147,7 +145,8 @@ TEST(DatabaseSim, StreamingRunMatchesTheCausalOfflineEvaluation) {
   Database da, db;
   const OnlineRun a = run_queries(s, da, exact, true, false);
   const OnlineRun b = run_queries(s, db, indexed, true, false);
-  const double auc_exact = eval::evaluate_matches(a.matches, s.positions(), s.positions(), causal).auc;
+  const double auc_exact =
+      eval::evaluate_matches(a.matches, s.positions(), s.positions(), causal).auc;
   const double auc_indexed =
       eval::evaluate_matches(b.matches, s.positions(), s.positions(), causal).auc;
   std::printf("streaming: exact AUC %.4f, indexed %.4f, top-1 agreement %.4f\n", auc_exact,
@@ -167,9 +166,9 @@ TEST(Recognizer, StreamingEqualsDescribeThenQuery) {
   const sim::Trajectory route = sim::make_builtin_trajectory("short");
   const std::vector<int> keyframes = sim::select_keyframes(route);
   const sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
-  const sim::VoOutput vo = sim::simulate_vo(route, keyframes, world,
-                                            sim::Conditions::for_season(sim::Season::Summer),
-                                            sim::StereoCamera{}, sim::VoSimConfig{});
+  const sim::VoOutput vo =
+      sim::simulate_vo(route, keyframes, world, sim::Conditions::for_season(sim::Season::Summer),
+                       sim::StereoCamera{}, sim::VoSimConfig{});
   const SequenceSignatures offline = describe_sequence(
       vo.poses, vo.points, SequenceOptions::make(Method::ScanContext, Mode::Default));
 

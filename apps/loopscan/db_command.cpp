@@ -104,8 +104,8 @@ void run_query(const QueryArgs& a) {
     } catch (const std::invalid_argument& e) {
       throw io::InputError(a.signatures, 0, e.what());
     }
-    total_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                    .count();
+    total_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     for (std::size_t r = 0; r < found.size(); ++r) {
       const Candidate& c = found[r];
       csv << queries.keyframe_ids[i] << ',' << r + 1 << ',' << c.place.session << ','
@@ -113,10 +113,9 @@ void run_query(const QueryArgs& a) {
           << (c.mirrored ? 1 : 0) << '\n';
     }
     const int q = static_cast<int>(i);
-    matches.push_back(found.empty()
-                          ? eval::QueryMatch{q, -1, std::numeric_limits<double>::infinity()}
-                          : eval::QueryMatch{q, static_cast<int>(found[0].index),
-                                             found[0].distance});
+    matches.push_back(
+        found.empty() ? eval::QueryMatch{q, -1, std::numeric_limits<double>::infinity()}
+                      : eval::QueryMatch{q, static_cast<int>(found[0].index), found[0].distance});
   }
   std::filesystem::create_directories(a.out);
   io::write_file_atomic(a.out + "/candidates.csv", csv.str());
@@ -132,8 +131,10 @@ void run_query(const QueryArgs& a) {
   for (std::size_t j = 0; j < db.size(); ++j) {
     const std::optional<Pose3x4> T = db.pose(j);
     if (!T) {
-      throw io::InputError(a.db, 0, "a pose for every place to evaluate against (build the "
-                                    "database with --gt); place " + std::to_string(j) + " has none");
+      throw io::InputError(a.db, 0,
+                           "a pose for every place to evaluate against (build the "
+                           "database with --gt); place " +
+                               std::to_string(j) + " has none");
     }
     db_pos[j] = -T->leftCols<3>().transpose() * T->col(3);
     db_ids[j] = db.place(j).keyframe;
@@ -153,11 +154,11 @@ void run_query(const QueryArgs& a) {
       {"n_database", db.size()},
       {"n_gt_loops", pr.n_gt_loops},
       {"query_ms", query_ms}};
-  const std::string title = method_name(db.config().method) + " database (" +
-                            (a.exact ? "exact" : "indexed") + ")";
+  const std::string title =
+      method_name(db.config().method) + " database (" + (a.exact ? "exact" : "indexed") + ")";
   write_evaluation(a.out, queries.keyframe_ids, db_ids, pr, metrics, title);
-  std::printf("%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops\n", title.c_str(),
-              pr.auc, pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops);
+  std::printf("%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops\n", title.c_str(), pr.auc,
+              pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops);
 }
 
 }  // namespace
@@ -169,8 +170,9 @@ void add_db_command(CLI::App& app) {
   auto b = std::make_shared<BuildArgs>();
   CLI::App* build = db->add_subcommand("build", "Described sequences -> database file");
   build->add_option("--method", b->method, "sc | m2dp | delight")->capture_default_str();
-  build->add_option("--signatures", b->signatures,
-                    "describe output dir; repeat for more sessions (numbered in order)")
+  build
+      ->add_option("--signatures", b->signatures,
+                   "describe output dir; repeat for more sessions (numbered in order)")
       ->required();
   build->add_option("--gt", b->gt, "ground truth per --signatures (stored as place positions)");
   build->add_option("--gt-format", b->gt_format, "kitti | robotcar")->capture_default_str();
@@ -197,9 +199,10 @@ void add_db_command(CLI::App& app) {
   query->add_option("--gt", q->gt, "ground truth of the queries: adds metrics, PR curve");
   query->add_option("--gt-format", q->gt_format, "kitti | robotcar")->capture_default_str();
   query->add_option("--threshold", q->threshold_m, "loop distance in m")->capture_default_str();
-  query->add_option("--mask", q->mask,
-                    "the database holds these very places: skip |i - j| < mask (100 like "
-                    "evaluate's same-session protocol)")
+  query
+      ->add_option("--mask", q->mask,
+                   "the database holds these very places: skip |i - j| < mask (100 like "
+                   "evaluate's same-session protocol)")
       ->capture_default_str();
   query->add_option("--out", q->out, "output directory")->required();
   query->callback([q] { run_query(*q); });

@@ -67,7 +67,8 @@ void run_describe(const DescribeArgs& a) {
   // Descriptor axes per place (row-major 3x3): `db` turns Scan Context shifts into yaw with them.
   Eigen::MatrixXd frames(static_cast<Eigen::Index>(result.frames.size()), 9);
   for (std::size_t i = 0; i < result.frames.size(); ++i) {
-    for (int k = 0; k < 9; ++k) frames(static_cast<Eigen::Index>(i), k) = result.frames[i](k / 3, k % 3);
+    for (int k = 0; k < 9; ++k)
+      frames(static_cast<Eigen::Index>(i), k) = result.frames[i](k / 3, k % 3);
   }
   io::write_matrix_text(a.out + "/frames.txt", frames);
   const nlohmann::json timing = {

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "loopscan/eval/place_evaluation.hpp"
 #include "evaluation_outputs.hpp"
+#include "loopscan/eval/place_evaluation.hpp"
 #include "options.hpp"
 #include "signature_set.hpp"
 

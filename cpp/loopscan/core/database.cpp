@@ -62,8 +62,7 @@ void Database::add(const PlaceRef& place, const PlaceDescriptor& descriptor,
   add_stored(place, payload.data(), descriptor.frame.cast<float>(), T_cam_world);
 }
 
-void Database::add_stored(const PlaceRef& place, const float* payload,
-                          const Eigen::Matrix3f& frame,
+void Database::add_stored(const PlaceRef& place, const float* payload, const Eigen::Matrix3f& frame,
                           const std::optional<Pose3x4>& T_cam_world) {
   store_->arena().append(payload);
   places_.push_back(place);
@@ -213,8 +212,8 @@ double relative_yaw(const Eigen::Matrix3d& query_frame, const Eigen::Matrix3d& p
     const double c = shift * width;
     G.block<2, 2>(1, 1) << std::cos(c), -std::sin(c), std::sin(c), std::cos(c);
   }
-  const double det = G.block<2, 2>(1, 1).determinant() * query_frame.determinant() *
-                     place_frame.determinant();
+  const double det =
+      G.block<2, 2>(1, 1).determinant() * query_frame.determinant() * place_frame.determinant();
   G(0, 0) = det < 0 ? -1.0 : 1.0;
   const Eigen::Matrix3d R_place_query = place_frame.transpose() * G * query_frame;
   // The place keyframe's forward axis (+z) in the query camera frame; yaw about -y.

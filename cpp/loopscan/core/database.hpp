@@ -19,7 +19,9 @@ namespace loopscan {
 struct PlaceRef {
   int session = 0;
   int keyframe = 0;
-  bool operator==(const PlaceRef& o) const { return session == o.session && keyframe == o.keyframe; }
+  bool operator==(const PlaceRef& o) const {
+    return session == o.session && keyframe == o.keyframe;
+  }
 };
 
 // A signature plus the descriptor's axes in the keyframe's camera frame (rows = axes, from

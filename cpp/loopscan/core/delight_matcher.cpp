@@ -134,8 +134,8 @@ void kernel_avx2(const float* a, const float* b, int bins, double* shared, doubl
 #endif
 
 // Distance from the shared sums of the four region masks (see the top of the file).
-double distance_from_shared(const DelightTotals& ta, const DelightTotals& tb,
-                            const double* shared, const double* overlap) {
+double distance_from_shared(const DelightTotals& ta, const DelightTotals& tb, const double* shared,
+                            const double* overlap) {
   double best = std::numeric_limits<double>::infinity();
   for (int m = 0; m < 4; ++m) {
     const double used = ta.nonzero + tb.nonzero - overlap[m];
@@ -215,8 +215,10 @@ DelightTotals delight_pack(const Signature& place, int padded_bins, float* out) 
 
 double delight_packed_distance(const float* a, const DelightTotals& ta, const float* b,
                                const DelightTotals& tb, int padded_bins) {
-  static const auto kernel = simd::has_avx2() ? static_cast<void (*)(const float*, const float*, int, double*, double*)>(kernel_avx2)
-                                              : static_cast<void (*)(const float*, const float*, int, double*, double*)>(kernel_base);
+  static const auto kernel =
+      simd::has_avx2()
+          ? static_cast<void (*)(const float*, const float*, int, double*, double*)>(kernel_avx2)
+          : static_cast<void (*)(const float*, const float*, int, double*, double*)>(kernel_base);
   double shared[4], overlap[4];
   kernel(a, b, padded_bins, shared, overlap);
   return distance_from_shared(ta, tb, shared, overlap);

@@ -23,8 +23,8 @@ struct SequenceSignatures {
   std::vector<int> keyframe_ids;  // one per signature
   std::vector<Signature> signatures;
   std::vector<Eigen::Matrix3d> frames;  // descriptor axes in the camera frame (see describe)
-  double imitate_ms = 0;   // mean per described keyframe: crop + filter
-  double describe_ms = 0;  // mean per described keyframe (CPU time of one thread)
+  double imitate_ms = 0;                // mean per described keyframe: crop + filter
+  double describe_ms = 0;               // mean per described keyframe (CPU time of one thread)
   double mean_in_range = 0, mean_filtered = 0;  // points per scan
 };
 

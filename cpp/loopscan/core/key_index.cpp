@@ -10,9 +10,9 @@ namespace {
 
 struct PayloadKeys {
   int dims = 0;
-  std::vector<float> keys;      // dims per place
-  std::size_t count = 0;        // places added
-  std::size_t tree_count = 0;   // places in the tree (the first ones)
+  std::vector<float> keys;     // dims per place
+  std::size_t count = 0;       // places added
+  std::size_t tree_count = 0;  // places in the tree (the first ones)
   std::size_t kdtree_get_point_count() const { return tree_count; }
   float kdtree_get_pt(std::uint32_t i, std::size_t d) const { return keys[i * dims + d]; }
   template <class Box>
@@ -101,7 +101,8 @@ void KeyIndex::nearest(const float* key, std::size_t count,
   if (impl_->tree) impl_->tree->findNeighbors(result, key, nanoflann::SearchParams());
   for (std::size_t i = k.tree_count; i < k.count; ++i) {
     float d = 0;
-    for (int t = 0; t < k.dims; ++t) d += (key[t] - k.keys[i * k.dims + t]) * (key[t] - k.keys[i * k.dims + t]);
+    for (int t = 0; t < k.dims; ++t)
+      d += (key[t] - k.keys[i * k.dims + t]) * (key[t] - k.keys[i * k.dims + t]);
     result.addPoint(d, static_cast<std::uint32_t>(i));
   }
   out.swap(result.sorted_items());
@@ -110,8 +111,7 @@ void KeyIndex::nearest(const float* key, std::size_t count,
 std::size_t KeyIndex::memory_bytes() const {
   // The keys and a point id (uint32) per place, plus about one node per leaf of 16 points.
   const std::size_t n = impl_->keys.count;
-  return impl_->keys.keys.capacity() * sizeof(float) + n * sizeof(std::uint32_t) +
-         (n / 8 + 1) * 64;
+  return impl_->keys.keys.capacity() * sizeof(float) + n * sizeof(std::uint32_t) + (n / 8 + 1) * 64;
 }
 
 }  // namespace loopscan

@@ -22,7 +22,8 @@ class KeyIndex {
   int dims() const;
 
   // Up to `count` places with eligible(i), nearest to `key` (squared L2), nearest first.
-  void nearest(const float* key, std::size_t count, const std::function<bool(std::size_t)>& eligible,
+  void nearest(const float* key, std::size_t count,
+               const std::function<bool(std::size_t)>& eligible,
                std::vector<std::pair<float, std::size_t>>& out) const;
 
   std::size_t memory_bytes() const;

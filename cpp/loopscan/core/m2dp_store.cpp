@@ -57,7 +57,8 @@ class M2dpStore final : public PlaceStore {
     }
   }
   void indexed_up_to(std::size_t n) override {
-    for (std::size_t i = index_.size(); i < n; ++i) index_.add(arena_.at(i));  // version 0, structure
+    for (std::size_t i = index_.size(); i < n; ++i)
+      index_.add(arena_.at(i));  // version 0, structure
   }
 
   std::unique_ptr<Query> prepare(const Signature& s) const override {

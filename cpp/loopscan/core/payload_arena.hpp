@@ -15,7 +15,7 @@ class AlignedFloats {
  public:
   AlignedFloats() = default;
   explicit AlignedFloats(std::size_t n)
-      : data_(static_cast<float*>(::operator new((n + 16) * sizeof(float), std::align_val_t{64}))),
+      : data_(static_cast<float*>(::operator new ((n + 16) * sizeof(float), std::align_val_t{64}))),
         size_(n) {
     std::memset(data_.get(), 0, (n + 16) * sizeof(float));
   }
@@ -27,7 +27,7 @@ class AlignedFloats {
 
  private:
   struct Delete {
-    void operator()(float* p) const { ::operator delete(p, std::align_val_t{64}); }
+    void operator()(float* p) const { ::operator delete (p, std::align_val_t{64}); }
   };
   std::unique_ptr<float, Delete> data_;
   std::size_t size_ = 0;
@@ -50,7 +50,7 @@ class PayloadArena {
   void append(const float* record) {
     if (size_ % kRecordsPerChunk == 0) {
       const std::size_t bytes = kRecordsPerChunk * stride_ * sizeof(float);
-      chunks_.emplace_back(static_cast<float*>(::operator new(bytes, std::align_val_t{64})));
+      chunks_.emplace_back(static_cast<float*>(::operator new (bytes, std::align_val_t{64})));
     }
     float* out = const_cast<float*>(at(size_));
     std::memcpy(out, record, floats_ * sizeof(float));
@@ -65,7 +65,7 @@ class PayloadArena {
 
  private:
   struct AlignedDelete {
-    void operator()(float* p) const { ::operator delete(p, std::align_val_t{64}); }
+    void operator()(float* p) const { ::operator delete (p, std::align_val_t{64}); }
   };
   using Chunk = std::unique_ptr<float, AlignedDelete>;
   std::size_t floats_, stride_;

@@ -1,13 +1,15 @@
 #include "loopscan/core/recognizer.hpp"
 
+#include "loopscan/core/describe_sequence.hpp"
+
 namespace loopscan {
 
 RecognizerConfig RecognizerConfig::make(Method method, Mode mode, double range_m) {
+  const SequenceOptions offline = SequenceOptions::make(method, mode, range_m);
   RecognizerConfig c;
   c.method = method;
-  c.imitation.mode = mode;
-  c.imitation.range_m = range_m;
-  c.descriptors = DescriptorConfig::for_mode(mode, range_m);
+  c.imitation = offline.imitation;
+  c.descriptors = offline.descriptors;
   c.database.method = method;
   c.database.scan_context = c.descriptors.scan_context;
   c.query.exclude_recent = 99;

@@ -23,8 +23,8 @@ struct RecognizerConfig {
 };
 
 struct KeyframeResult {
-  bool described = false;           // the keyframe got a scan (and joined the map)
-  std::vector<Candidate> matches;   // best first; empty when none passed the query options
+  bool described = false;          // the keyframe got a scan (and joined the map)
+  std::vector<Candidate> matches;  // best first; empty when none passed the query options
 };
 
 class Recognizer {

@@ -69,8 +69,8 @@ LOOPSCAN_INLINE void ring_sums_60(const float* q, const float* qs, const float* 
 }
 
 // Correlation (cre, cim) and convolution (vre, vim) spectra from the two ring sums.
-LOOPSCAN_INLINE void cross_spectra(const float* a1, const float* a2, int S, float* cre, float* cim, float* vre,
-                   float* vim) {
+LOOPSCAN_INLINE void cross_spectra(const float* a1, const float* a2, int S, float* cre, float* cim,
+                                   float* vre, float* vim) {
   const int H = S / 2;
   cre[0] = vre[0] = a1[0];  // DC: Re Q_0 Re P_0
   cre[H] = vre[H] = a1[H];  // Nyquist, packed where Im X_0 would be
@@ -179,9 +179,10 @@ LOOPSCAN_AVX2 void best_dots_avx2(const KernelArgs& k, const float* q, const flo
 ScanContextSpectra::ScanContextSpectra(const ScanContextConfig& config)
     : rings_(config.rings), sectors_(config.sectors) {
   if (rings_ <= 0 || sectors_ <= 0 || sectors_ % 2 != 0 || sectors_ > kMaxSectors) {
-    throw std::invalid_argument("Scan Context spectra need rings > 0 and an even number of "
-                                "sectors up to 512, got " +
-                                std::to_string(rings_) + " x " + std::to_string(sectors_));
+    throw std::invalid_argument(
+        "Scan Context spectra need rings > 0 and an even number of "
+        "sectors up to 512, got " +
+        std::to_string(rings_) + " x " + std::to_string(sectors_));
   }
   const int S = sectors_, K = S / 2 + 1;
   m_padded_ = (K + 7) / 8 * 8;
@@ -219,10 +220,9 @@ ScanContextSpectra::ScanContextSpectra(const ScanContextConfig& config)
 void ScanContextSpectra::pack(const Signature& place, float* out) const {
   const int R = rings_, S = sectors_;
   if (place.rows() != 1 || place.cols() != 2 * R * S) {
-    throw std::invalid_argument("a Scan Context signature must be 1 x " +
-                                std::to_string(2 * R * S) + ", got " +
-                                std::to_string(place.rows()) + " x " +
-                                std::to_string(place.cols()));
+    throw std::invalid_argument(
+        "a Scan Context signature must be 1 x " + std::to_string(2 * R * S) + ", got " +
+        std::to_string(place.rows()) + " x " + std::to_string(place.cols()));
   }
   for (int c = 0; c < 2; ++c) {
     const double* x = place.data() + static_cast<std::size_t>(c) * R * S;
@@ -271,8 +271,7 @@ void ScanContextSpectra::best_dots(const Query& query, const float* place, float
   kernel(args, query.packed.data(), query.swapped.data(), place, best);
 }
 
-SectorAlignment ScanContextSpectra::align(const Query& query, const float* place,
-                                          int half) const {
+SectorAlignment ScanContextSpectra::align(const Query& query, const float* place, int half) const {
   const int R = rings_, S = sectors_, H = S / 2;
   const std::size_t off = static_cast<std::size_t>(half) * R * S;
   std::vector<double> a1(S, 0.0), a2(S, 0.0);

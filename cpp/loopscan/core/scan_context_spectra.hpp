@@ -68,9 +68,9 @@ class ScanContextSpectra {
 
  private:
   int rings_, sectors_;
-  std::vector<float> forward_;       // S x S: packed spectrum of a unit value in sector s
-  std::vector<double> cos_, sin_;    // S x S/2: cos, sin of 2 pi k m / S (row m)
-  std::vector<float> inv_cos_, inv_sin_;   // (S/2 + 1) x padded m, weights and 1/S folded in
+  std::vector<float> forward_;            // S x S: packed spectrum of a unit value in sector s
+  std::vector<double> cos_, sin_;         // S x S/2: cos, sin of 2 pi k m / S (row m)
+  std::vector<float> inv_cos_, inv_sin_;  // (S/2 + 1) x padded m, weights and 1/S folded in
   int m_padded_;
 };
 

@@ -83,8 +83,7 @@ bool same_parameters(const DatabaseConfig& a, const DatabaseConfig& b) {
   const int ca = a.columns > 0 ? a.columns : signature_columns(a.method);
   const int cb = b.columns > 0 ? b.columns : signature_columns(b.method);
   const bool sc = a.method == Method::ScanContext;
-  return a.method == b.method && a.fusion == b.fusion &&
-         a.structure_weight == b.structure_weight &&
+  return a.method == b.method && a.fusion == b.fusion && a.structure_weight == b.structure_weight &&
          (!sc || (a.scan_context.rings == b.scan_context.rings &&
                   a.scan_context.sectors == b.scan_context.sectors)) &&
          (sc || ca == cb);
@@ -156,11 +155,12 @@ Database load_database(const std::string& path, const DatabaseConfig* expected) 
   c.scan_context.sectors = r.get<std::int32_t>("the sector count");
   c.columns = r.get<std::int32_t>("the signature width");
   const bool sc = c.method == Method::ScanContext;
-  if (sc && (c.scan_context.rings <= 0 || c.scan_context.rings > 4096 ||
-             c.scan_context.sectors <= 0 || c.scan_context.sectors > 512 ||
-             c.scan_context.sectors % 2 != 0)) {
+  if (sc &&
+      (c.scan_context.rings <= 0 || c.scan_context.rings > 4096 || c.scan_context.sectors <= 0 ||
+       c.scan_context.sectors > 512 || c.scan_context.sectors % 2 != 0)) {
     r.fail("Scan Context size " + std::to_string(c.scan_context.rings) + " x " +
-           std::to_string(c.scan_context.sectors) + ", expected rings in 1..4096 and an even "
+           std::to_string(c.scan_context.sectors) +
+           ", expected rings in 1..4096 and an even "
            "sector count in 2..512");
   }
   if (c.columns <= 0 || c.columns > (1 << 20)) {

@@ -13,9 +13,9 @@
 namespace loopscan::sim {
 
 struct SimulatedPlaces {
-  std::vector<int> keyframe_ids;                // described keyframes (frame ids)
-  std::vector<PlaceDescriptor> places;          // one per described keyframe
-  std::vector<Eigen::Isometry3d> T_world_cam;   // ground truth of each described keyframe
+  std::vector<int> keyframe_ids;               // described keyframes (frame ids)
+  std::vector<PlaceDescriptor> places;         // one per described keyframe
+  std::vector<Eigen::Isometry3d> T_world_cam;  // ground truth of each described keyframe
   std::vector<Eigen::Vector3d> positions() const;
 };
 
