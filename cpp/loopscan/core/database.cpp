@@ -53,7 +53,7 @@ Database& Database::operator=(Database&&) noexcept = default;
 
 int Database::payload_floats() const { return store_->payload_floats(); }
 
-const float* Database::payload(std::size_t i) const { return store_->arena().at(i); }
+void Database::stored_payload(std::size_t i, float* out) const { store_->stored(i, out); }
 
 void Database::add(const PlaceRef& place, const PlaceDescriptor& descriptor,
                    const std::optional<Pose3x4>& T_cam_world) {
@@ -64,7 +64,7 @@ void Database::add(const PlaceRef& place, const PlaceDescriptor& descriptor,
 
 void Database::add_stored(const PlaceRef& place, const float* payload, const Eigen::Matrix3f& frame,
                           const std::optional<Pose3x4>& T_cam_world) {
-  store_->arena().append(payload);
+  store_->append(payload);
   places_.push_back(place);
   frames_.push_back(frame);
   pose_slot_.push_back(T_cam_world ? static_cast<std::int32_t>(pose_values_.size()) : -1);
@@ -95,8 +95,9 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
       if (eligible(i)) scored.push_back(i);
     }
   } else {
-    store_->candidates(*query, static_cast<std::size_t>(std::max(1, options.candidates)), eligible,
-                       n, scored);
+    const auto count = static_cast<std::size_t>(std::max(1, options.candidates));
+    const auto pool = count * static_cast<std::size_t>(std::max(1, options.index_pool_factor));
+    store_->candidates(*query, count, pool, eligible, n, scored);
   }
   if (scored.empty()) return {};
   const int C = store_->components();
@@ -106,7 +107,7 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
   const int threads = scored.size() >= 256 ? std::max(1, options.threads) : 1;
   run_on_threads(threads, [&](int t) {
     for (std::size_t j = static_cast<std::size_t>(t); j < scored.size(); j += threads) {
-      store_->distances(*query, payload(scored[j]), &raw[j * C]);
+      store_->distances(*query, store_->record(scored[j]), &raw[j * C]);
     }
   });
 
@@ -124,7 +125,7 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
     }
     sample_raw.resize(sample.size() * C);
     for (std::size_t j = 0; j < sample.size(); ++j) {
-      store_->distances(*query, payload(sample[j]), &sample_raw[j * C]);
+      store_->distances(*query, store_->record(sample[j]), &sample_raw[j * C]);
     }
     stats_rows = &sample_raw;
   }
@@ -177,7 +178,7 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
     out.push_back(c);
   }
   for (Candidate& c : out) {
-    if (const auto a = store_->align(*query, payload(c.index))) {
+    if (const auto a = store_->align(*query, store_->record(c.index))) {
       c.mirrored = a->mirrored;
       c.yaw_rad = relative_yaw(descriptor.frame, frames_[c.index].cast<double>(), a->shift,
                                a->mirrored, store_->sectors());
@@ -187,7 +188,7 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
 }
 
 std::size_t Database::memory_bytes() const {
-  return store_->arena().memory_bytes() + store_->index_bytes() +
+  return store_->memory_bytes() +
          places_.capacity() * sizeof(PlaceRef) + frames_.capacity() * sizeof(Eigen::Matrix3f) +
          pose_slot_.capacity() * sizeof(std::int32_t) + pose_values_.capacity() * sizeof(Pose3x4);
 }

@@ -49,6 +49,8 @@ struct QueryOptions {
   // Indexed: places taken from the index (SC ring-key / M2DP KD-tree, DELIGHT coarse
   // histogram) and scored exactly.
   int candidates = 50;
+  // Scan Context: places the ring-key tree hands to the spectral re-ranking, per candidate.
+  int index_pool_factor = 8;
   // Fused scores are z-scores of each half over the row of eligible places (Matlab's
   // normalize, as offline). Exact search has the whole row; indexed search estimates its mean
   // and standard deviation from this many eligible places spread evenly over the database.
@@ -104,7 +106,7 @@ class Database {
 
   // The stored form of a place (what persistence writes): a fixed-length float payload.
   int payload_floats() const;
-  const float* payload(std::size_t i) const;
+  void stored_payload(std::size_t i, float* out) const;  // payload_floats() values
   // Appends a place from its stored form (the loader's path; no re-encoding).
   void add_stored(const PlaceRef& place, const float* payload, const Eigen::Matrix3f& frame,
                   const std::optional<Pose3x4>& T_cam_world);

@@ -46,7 +46,7 @@ class DelightStore final : public PlaceStore {
   void indexed_up_to(std::size_t n) override {
     for (std::size_t i = coarse_.size() / kCoarseBins; i < n; ++i) {
       float c[kCoarseBins];
-      coarse_of(arena_.at(i), c);
+      coarse_of(record(i), c);
       coarse_.insert(coarse_.end(), c, c + kCoarseBins);
     }
   }
@@ -64,7 +64,8 @@ class DelightStore final : public PlaceStore {
     out[0] = delight_packed_distance(q, totals(q), p, totals(p), bins_);
   }
 
-  void candidates(const Query& query, std::size_t count, const Eligible& eligible,
+  void candidates(const Query& query, std::size_t count, std::size_t /*pool*/,
+                  const Eligible& eligible,
                   std::size_t n_places, std::vector<std::size_t>& out) const override {
     const float* qc = static_cast<const HistogramQuery&>(query).coarse;
     std::vector<std::pair<float, std::size_t>> scored;

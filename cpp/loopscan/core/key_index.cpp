@@ -62,6 +62,9 @@ class EligibleKnn {
   std::vector<std::pair<float, std::size_t>> items_;
 };
 
+// Searches asking for more than 1/kScanShare of the places scan instead of using the tree.
+constexpr std::size_t kScanShare = 32;
+
 }  // namespace
 
 // One static tree over the first places plus a short tail searched by brute force; the tree
@@ -96,14 +99,31 @@ void KeyIndex::nearest(const float* key, std::size_t count,
                        std::vector<std::pair<float, std::size_t>>& out) const {
   out.clear();
   if (count == 0 || impl_->keys.count == 0) return;
-  EligibleKnn result(count, eligible);
   const PayloadKeys& k = impl_->keys;
+  auto dist = [&](std::size_t i) {
+    float d = 0;
+    for (int t = 0; t < k.dims; ++t) {
+      const float e = key[t] - k.keys[i * k.dims + t];
+      d += e * e;
+    }
+    return d;
+  };
+  // A large share of the places (pool searches) prunes little in a tree: one pass over the
+  // contiguous keys and a selection is faster there, and gives the same answer.
+  if (count * kScanShare >= k.count) {
+    // Distances first (no calls in the loop), then a bounded max-heap that asks `eligible`
+    // only for places closer than the current k-th.
+    std::vector<float> d(k.count);
+    for (std::size_t i = 0; i < k.count; ++i) d[i] = dist(i);
+    EligibleKnn best(count, eligible);
+    for (std::size_t i = 0; i < k.count; ++i) best.addPoint(d[i], static_cast<std::uint32_t>(i));
+    out.swap(best.sorted_items());
+    return;
+  }
+  EligibleKnn result(count, eligible);
   if (impl_->tree) impl_->tree->findNeighbors(result, key, nanoflann::SearchParams());
   for (std::size_t i = k.tree_count; i < k.count; ++i) {
-    float d = 0;
-    for (int t = 0; t < k.dims; ++t)
-      d += (key[t] - k.keys[i * k.dims + t]) * (key[t] - k.keys[i * k.dims + t]);
-    result.addPoint(d, static_cast<std::uint32_t>(i));
+    result.addPoint(dist(i), static_cast<std::uint32_t>(i));
   }
   out.swap(result.sorted_items());
 }

@@ -81,7 +81,8 @@ class M2dpStore final : public PlaceStore {
     }
   }
 
-  void candidates(const Query& query, std::size_t count, const Eligible& eligible, std::size_t,
+  void candidates(const Query& query, std::size_t count, std::size_t /*pool*/,
+                  const Eligible& eligible, std::size_t,
                   std::vector<std::size_t>& out) const override {
     const float* q = static_cast<const RowsQuery&>(query).rows.data();
     std::map<std::size_t, float> nearest;  // place -> smallest key distance over versions

@@ -35,7 +35,7 @@ class AlignedFloats {
 
 class PayloadArena {
  public:
-  static constexpr std::size_t kRecordsPerChunk = 64;
+  static constexpr std::size_t kRecordsPerChunk = 16;
 
   explicit PayloadArena(std::size_t floats_per_record)
       : floats_(floats_per_record), stride_((floats_per_record + 15) / 16 * 16) {}

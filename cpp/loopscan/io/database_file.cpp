@@ -105,6 +105,7 @@ void save_database(const Database& db, const std::string& path) {
   w.put<std::int32_t>(c.columns > 0 ? c.columns : signature_columns(c.method));
   w.put<std::uint32_t>(static_cast<std::uint32_t>(db.payload_floats()));
   w.put<std::uint64_t>(db.size());
+  std::vector<float> payload(static_cast<std::size_t>(db.payload_floats()));
   for (std::size_t i = 0; i < db.size(); ++i) {
     const PlaceRef p = db.place(i);
     w.put<std::int32_t>(p.session);
@@ -117,7 +118,8 @@ void save_database(const Database& db, const std::string& path) {
       const Eigen::Matrix<double, 3, 4, Eigen::RowMajor> T = *pose;
       w.bytes(T.data(), 12 * sizeof(double));
     }
-    w.bytes(db.payload(i), static_cast<std::size_t>(db.payload_floats()) * sizeof(float));
+    db.stored_payload(i, payload.data());
+    w.bytes(payload.data(), payload.size() * sizeof(float));
   }
   const std::uint32_t crc = w.crc();
   file.stream().write(reinterpret_cast<const char*>(&crc), sizeof crc);
