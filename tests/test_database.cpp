@@ -248,6 +248,27 @@ TEST(Database, IndexedFindsANoisyCopyOfAStoredPlace) {
   }
 }
 
+TEST(Database, IndexedStatisticsSurviveSparseFilters) {
+  // Only every 37th place may match: the strided statistics sample would miss them all.
+  std::mt19937 rng(4);
+  Database db;
+  std::vector<Signature> sigs;
+  for (int i = 0; i < 400; ++i) {
+    sigs.push_back(random_signature(Method::ScanContext, rng));
+    db.add({0, i}, {sigs.back()});
+  }
+  QueryOptions exact, indexed;
+  exact.retrieval = Retrieval::Exact;
+  exact.accept = indexed.accept = [](std::size_t i, const PlaceRef&) { return i % 37 == 0; };
+  const auto a = db.query({sigs[74]}, 3, exact), b = db.query({sigs[74]}, 3, indexed);
+  ASSERT_EQ(a.size(), 3u);
+  ASSERT_EQ(b.size(), 3u);
+  EXPECT_EQ(a[0].index, 74u);
+  EXPECT_EQ(b[0].index, 74u);
+  EXPECT_LT(b[0].distance, b[1].distance);          // real z-scores, not all zero
+  EXPECT_NEAR(b[0].distance, a[0].distance, 1e-9);  // the sample is all 11 eligible places
+}
+
 TEST(Database, ThreadedExactSearchGivesTheSameResults) {
   std::mt19937 rng(8);
   Database db;

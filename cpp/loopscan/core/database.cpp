@@ -123,6 +123,12 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
     for (std::size_t i = 0; i < limit && sample.size() < want; i += step) {
       if (eligible(i)) sample.push_back(i);
     }
+    if (sample.size() < want / 2) {  // few eligible places (filters): take them in order
+      sample.clear();
+      for (std::size_t i = 0; i < limit && sample.size() < want; ++i) {
+        if (eligible(i)) sample.push_back(i);
+      }
+    }
     sample_raw.resize(sample.size() * C);
     for (std::size_t j = 0; j < sample.size(); ++j) {
       store_->distances(*query, store_->record(sample[j]), &sample_raw[j * C]);
@@ -188,8 +194,8 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
 }
 
 std::size_t Database::memory_bytes() const {
-  return store_->memory_bytes() +
-         places_.capacity() * sizeof(PlaceRef) + frames_.capacity() * sizeof(Eigen::Matrix3f) +
+  return store_->memory_bytes() + places_.capacity() * sizeof(PlaceRef) +
+         frames_.capacity() * sizeof(Eigen::Matrix3f) +
          pose_slot_.capacity() * sizeof(std::int32_t) + pose_values_.capacity() * sizeof(Pose3x4);
 }
 
