@@ -5,6 +5,7 @@
 
 #include "loopscan/core/place_matcher.hpp"
 #include "loopscan/core/scan_context_kernel.hpp"
+#include "loopscan/core/scan_context_spectra.hpp"
 
 namespace loopscan {
 namespace {
@@ -131,11 +132,45 @@ class ScanContextMatcher final : public PlaceMatcher {
   std::vector<T> blocks_;  // per block of kL places: [component][ring][bin] {re, im} chunks
 };
 
+// Single precision with an even sector count: the place database's packed-spectra pair
+// kernel (scan_context_spectra.hpp), one place after the other.
+class PackedScanContextMatcher final : public PlaceMatcher {
+ public:
+  explicit PackedScanContextMatcher(const ScanContextConfig& c)
+      : spectra_(c), arena_(static_cast<std::size_t>(spectra_.floats_per_place())) {}
+
+  void add(const Signature& place) override {
+    std::vector<float> packed(arena_.floats_per_record());
+    spectra_.pack(place, packed.data());
+    arena_.append(packed.data());
+  }
+  std::size_t size() const override { return arena_.size(); }
+  int components() const override { return 2; }
+
+  void distances(const Signature& query, Eigen::MatrixXd& rows) const override {
+    rows.resize(2, static_cast<Eigen::Index>(arena_.size()));
+    const ScanContextSpectra::Query q = spectra_.prepare(query);
+    float best[2];
+    for (std::size_t j = 0; j < arena_.size(); ++j) {
+      spectra_.best_dots(q, arena_.at(j), best);
+      rows(0, static_cast<Eigen::Index>(j)) = (1.0 - double(best[0])) / 2.0;
+      rows(1, static_cast<Eigen::Index>(j)) = (1.0 - double(best[1])) / 2.0;
+    }
+  }
+
+ private:
+  ScanContextSpectra spectra_;
+  PayloadArena arena_;
+};
+
 }  // namespace
 
 std::unique_ptr<PlaceMatcher> make_scan_context_matcher(Precision precision,
                                                         const ScanContextConfig& config) {
-  if (precision == Precision::Float) return std::make_unique<ScanContextMatcher<float>>(config);
+  if (precision == Precision::Float) {
+    if (config.sectors % 2 == 0) return std::make_unique<PackedScanContextMatcher>(config);
+    return std::make_unique<ScanContextMatcher<float>>(config);
+  }
   return std::make_unique<ScanContextMatcher<double>>(config);
 }
 
