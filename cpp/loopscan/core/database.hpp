@@ -83,6 +83,7 @@ struct Candidate {
 
 class PlaceStore;
 
+// query() is const and may run on several threads at once; add() must not overlap anything.
 class Database {
  public:
   explicit Database(const DatabaseConfig& config = {});
