@@ -307,5 +307,38 @@ TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
   EXPECT_FALSE(fs::exists(d / "x.db"));
 }
 
+TEST(Cli, RenderWritesTheKittiOdometryLayout) {
+  const fs::path d = temp_dir("render");
+  const CliResult r =
+      run("render --trajectory builtin:short --season winter --seed 3 --scale 0.25 "
+          "--first 10 --frames 3 --out " +
+          (d / "seq").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (int cam = 0; cam < 2; ++cam) {
+    for (int i = 0; i < 3; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "image_%d/%06d.png", cam, i);
+      EXPECT_TRUE(fs::exists(d / "seq" / name)) << name;
+    }
+  }
+  std::ifstream calib(d / "seq/calib.txt");
+  std::string p0, p1;
+  std::getline(calib, p0);
+  std::getline(calib, p1);
+  EXPECT_EQ(p0.rfind("P0: ", 0), 0u);
+  std::istringstream line(p1.substr(4));
+  double v[12];
+  for (double& x : v) line >> x;
+  EXPECT_NEAR(v[3], -386.1448 * 0.25, 1e-6);  // -fx * baseline
+  int poses = 0, times = 0;
+  std::string l;
+  for (std::ifstream in(d / "seq/poses.txt"); std::getline(in, l);) ++poses;
+  for (std::ifstream in(d / "seq/times.txt"); std::getline(in, l);) ++times;
+  EXPECT_EQ(poses, 3);
+  EXPECT_EQ(times, 3);
+  EXPECT_FALSE(has_temp_files(d));
+  EXPECT_EQ(run("render --trajectory builtin:short --scale 0 --out " + (d / "x").string()).code, 2);
+}
+
 }  // namespace
 }  // namespace loopscan

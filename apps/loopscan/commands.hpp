@@ -11,5 +11,6 @@ void add_pairs_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_db_command(CLI::App& app);
+void add_render_command(CLI::App& app);
 
 }  // namespace loopscan::cli

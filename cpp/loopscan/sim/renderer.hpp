@@ -1,0 +1,38 @@
+#pragma once
+// Rectified grayscale stereo images of the synthetic world: one ray per pixel through the
+// world's ray caster, shaded like the VO simulator's points (255 (gain * albedo)^gamma), sky
+// where nothing is hit, plus a little seeded sensor noise. The right camera sits one baseline
+// along the left camera's x axis, as in KITTI.
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "loopscan/sim/camera.hpp"
+#include "loopscan/sim/world.hpp"
+
+namespace loopscan::sim {
+
+struct GrayImage {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> pixels;  // row-major
+  std::uint8_t at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+};
+
+struct RenderConfig {
+  double max_distance_m = 150.0;
+  double sky_gray = 200.0;   // at the horizon; darker towards the zenith
+  double noise_sigma = 1.0;  // sensor noise, gray levels
+  unsigned seed = 1;         // noise seed (mixed with the frame and the camera)
+  int threads = 1;
+};
+
+// The camera scaled by `scale` (image size and intrinsics; the baseline stays).
+StereoCamera scaled_camera(const StereoCamera& camera, double scale);
+
+// camera_index 0 = left (at T_world_cam), 1 = right (baseline along the left camera's x).
+GrayImage render_view(const World& world, const Conditions& conditions, const StereoCamera& camera,
+                      const Eigen::Isometry3d& T_world_cam, int camera_index, int frame,
+                      const RenderConfig& config);
+
+}  // namespace loopscan::sim
