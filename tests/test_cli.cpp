@@ -7,6 +7,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "loopscan/io/errors.hpp"
+#include "loopscan/io/kitti_sequence.hpp"
+#include "loopscan/io/png.hpp"
 #include "test_support.hpp"
 
 namespace loopscan {
@@ -338,6 +341,31 @@ TEST(Cli, RenderWritesTheKittiOdometryLayout) {
   EXPECT_EQ(times, 3);
   EXPECT_FALSE(has_temp_files(d));
   EXPECT_EQ(run("render --trajectory builtin:short --scale 0 --out " + (d / "x").string()).code, 2);
+
+  // The reader a VO starts from.
+  const io::KittiSequence seq = io::open_kitti_sequence((d / "seq").string());
+  EXPECT_EQ(seq.frames(), 3u);
+  EXPECT_NEAR(seq.calib.fx, 718.856 * 0.25, 1e-6);
+  EXPECT_NEAR(seq.calib.baseline_m, 386.1448 / 718.856, 1e-9);
+  const io::GrayPng left = io::read_png_gray(seq.left(2));
+  EXPECT_EQ(left.width, 310);
+  EXPECT_EQ(left.height, 94);
+  fs::remove(d / "seq/image_1/000001.png");
+  try {
+    io::open_kitti_sequence((d / "seq").string());
+    ADD_FAILURE() << "a missing right image was not noticed";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("image_1/000001.png"), std::string::npos) << e.what();
+  }
+  write(d / "seq/calib.txt", "P0: 1 0 0 0 0 1 0 0 0 0 1 0\nP1: 1 0 0 x 0 1 0 0 0 0 1 0\n");
+  try {
+    io::read_kitti_calib((d / "seq/calib.txt").string());
+    ADD_FAILURE() << "a junk token in calib.txt was accepted";
+  } catch (const io::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("calib.txt:2"), std::string::npos) << e.what();
+  }
+  write(d / "seq/calib.txt", "P0: 1 0 0 0 0 1 0 0 0 0 1 0\n");
+  EXPECT_THROW(io::read_kitti_calib((d / "seq/calib.txt").string()), io::InputError);
 }
 
 }  // namespace
