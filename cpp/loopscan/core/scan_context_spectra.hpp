@@ -53,8 +53,9 @@ class ScanContextSpectra {
 
   // The index key of a packed place, invariant to sector shifts and mirroring: for both halves
   // and every ring, the sector sum (Re X_0, Scan Context's ring key) followed by the magnitudes
-  // sqrt(2) |X_f| of the first `frequencies` harmonics. Its squared distance is the energy
-  // the two rings cannot share whatever the shift, so nearest keys bound the best dots.
+  // sqrt(2) |X_f| of the first `frequencies` harmonics (1 <= f < S/2). Over the harmonics it
+  // keeps, (|a| - |b|)^2 <= |a - b e^{i phi}|^2 for every shift phi: the key distance is energy
+  // two rings cannot share at any shift, which makes it a good proxy for the best dot.
   static int key_dims(int rings, int frequencies) { return 2 * rings * (1 + frequencies); }
   float key(const float* place, std::size_t d, int frequencies) const {
     const int per_ring = 1 + frequencies;
