@@ -58,9 +58,6 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
   const ScanFilter filter = filter_for(options.method);
   std::vector<int> resets = options.reset_ids;
   std::sort(resets.begin(), resets.end());
-  const bool reference = options.imitation.mode == Mode::Reference;
-  Cloud in_range;
-  CameraPoints fast_in_range;
   std::vector<Cloud> batch;  // scans waiting for their description
   const std::size_t batch_size = options.threads > 1 ? 16 * options.threads : 1;
   auto flush = [&] {
@@ -77,25 +74,14 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
     while (next_point < points.size() && points[next_point].id <= keyframe.id) ++next_point;
     const bool reset = std::binary_search(resets.begin(), resets.end(), keyframe.id);
 
-    // Imitation: reference mode in double precision through the authors' filters; default
-    // mode through the single-precision vectorised path.
     const auto t0 = std::chrono::steady_clock::now();
     std::size_t n_in_range = 0;
-    if (reference) {
-      if (!imitator.add_keyframe(keyframe, points.data() + first, next_point - first, reset,
-                                 in_range)) {
-        continue;
-      }
-      batch.push_back(filter_scan(in_range, filter, options.imitation));
-      n_in_range = in_range.size();
-    } else {
-      if (!imitator.add_keyframe(keyframe, points.data() + first, next_point - first, reset,
-                                 fast_in_range)) {
-        continue;
-      }
-      batch.push_back(filter_camera_points(fast_in_range, filter, options.imitation));
-      n_in_range = fast_in_range.size();
+    Cloud scan;
+    if (!imitator.next_scan(keyframe, points.data() + first, next_point - first, reset, filter,
+                            scan, &n_in_range)) {
+      continue;
     }
+    batch.push_back(std::move(scan));
     out.imitate_ms += ms_since(t0);
     out.keyframe_ids.push_back(keyframe.id);
     out.mean_in_range += static_cast<double>(n_in_range);

@@ -25,15 +25,10 @@ Recognizer::Recognizer(const RecognizerConfig& config, Database map)
 KeyframeResult Recognizer::add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
                                         std::size_t n_points, bool reset) {
   KeyframeResult result;
-  // 1. Imitate the scan around the keyframe (and filter it as the descriptor expects).
-  const ScanFilter filter = filter_for(config_.method);
+  // 1. Imitate the scan around the keyframe (filtered as the descriptor expects).
   Cloud scan;
-  if (config_.imitation.mode == Mode::Reference) {
-    if (!imitator_.add_keyframe(keyframe, points, n_points, reset, in_range_)) return result;
-    scan = filter_scan(in_range_, filter, config_.imitation);
-  } else {
-    if (!imitator_.add_keyframe(keyframe, points, n_points, reset, in_range_fast_)) return result;
-    scan = filter_camera_points(in_range_fast_, filter, config_.imitation);
+  if (!imitator_.next_scan(keyframe, points, n_points, reset, filter_for(config_.method), scan)) {
+    return result;
   }
   // 2. Describe it.
   PlaceDescriptor place;

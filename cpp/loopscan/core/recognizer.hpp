@@ -45,8 +45,6 @@ class Recognizer {
   RecognizerConfig config_;
   ScanImitator imitator_;
   Database db_;
-  CameraPoints in_range_fast_;
-  Cloud in_range_;
 };
 
 }  // namespace loopscan

@@ -142,4 +142,19 @@ Cloud filter_scan(const Cloud& in_range, ScanFilter filter, const ImitationConfi
   return polar_filter(in_range, config.polar_resolution_deg, config.mode);
 }
 
+bool ScanImitator::next_scan(const KeyframePose& keyframe, const IdPoint* points,
+                             std::size_t n_points, bool reset, ScanFilter filter, Cloud& scan,
+                             std::size_t* in_range_count) {
+  if (config_.mode == Mode::Reference) {
+    if (!add_keyframe(keyframe, points, n_points, reset, in_range_)) return false;
+    scan = filter_scan(in_range_, filter, config_);
+    if (in_range_count) *in_range_count = in_range_.size();
+  } else {
+    if (!add_keyframe(keyframe, points, n_points, reset, in_range_fast_)) return false;
+    scan = filter_camera_points(in_range_fast_, filter, config_);
+    if (in_range_count) *in_range_count = in_range_fast_.size();
+  }
+  return true;
+}
+
 }  // namespace loopscan

@@ -25,6 +25,12 @@ class ScanImitator {
   bool add_keyframe(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
                     bool reset, CameraPoints& in_range);
 
+  // add_keyframe plus the descriptor's filter, through the mode's path (reference: double and
+  // the authors' filters; default: the single-precision vectorised path): the filtered scan
+  // the keyframe gets, or false. `in_range_count` (optional): points before filtering.
+  bool next_scan(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
+                 bool reset, ScanFilter filter, Cloud& scan, std::size_t* in_range_count = nullptr);
+
   // Forgets the local map; the next `init_frames` keyframes get no scan.
   void reset();
 
@@ -44,8 +50,10 @@ class ScanImitator {
   void crop_reference(const KeyframePose& keyframe, Cloud& in_range);
   void crop_fast(const KeyframePose& keyframe, CameraPoints& in_range);
 
-  std::vector<PointI> local_;  // reference mode: world frame, double (the authors' arithmetic)
-  CameraPoints world_;         // default mode: world frame, float SoA (4x less memory traffic)
+  std::vector<PointI> local_;   // reference mode: world frame, double (the authors' arithmetic)
+  CameraPoints world_;          // default mode: world frame, float SoA (4x less memory traffic)
+  Cloud in_range_;              // next_scan's scratch, reference mode
+  CameraPoints in_range_fast_;  // next_scan's scratch, default mode
   int frames_since_reset_ = 0;
 };
 
