@@ -15,6 +15,20 @@ namespace {
 
 constexpr int kOrbits = 4, kOrbitBins = 16, kCoarseBins = kOrbits * kOrbitBins;
 
+// Orbit of each region under r -> r ^ m, m in {0, 5, 6, 3} (kDelightRegionMasks): 4 orbits,
+// numbered in the order of their smallest members 0, 1, 8, 9.
+constexpr int kOrbit[kDelightRegions] = {0, 1, 1, 0, 1, 0, 0, 1, 2, 3, 3, 2, 3, 2, 2, 3};
+
+constexpr bool orbits_are_closed() {
+  for (int r = 0; r < kDelightRegions; ++r) {
+    for (int m : kDelightRegionMasks) {
+      if (kOrbit[r] != kOrbit[r ^ m]) return false;
+    }
+  }
+  return true;
+}
+static_assert(orbits_are_closed(), "kOrbit must be invariant under the region flips");
+
 class DelightStore final : public PlaceStore {
   struct HistogramQuery : Query {
     std::vector<float> payload;
@@ -65,8 +79,8 @@ class DelightStore final : public PlaceStore {
   }
 
   void candidates(const Query& query, std::size_t count, std::size_t /*pool*/,
-                  const Eligible& eligible,
-                  std::size_t n_places, std::vector<std::size_t>& out) const override {
+                  const Eligible& eligible, std::size_t n_places,
+                  std::vector<std::size_t>& out) const override {
     const float* qc = static_cast<const HistogramQuery&>(query).coarse;
     std::vector<std::pair<float, std::size_t>> scored;
     for (std::size_t i = 0; i < n_places; ++i) {
@@ -91,23 +105,11 @@ class DelightStore final : public PlaceStore {
   DelightTotals totals(const float* p) const {
     return {p[kDelightRegions * bins_], p[kDelightRegions * bins_ + 1]};
   }
-  // Orbit of region r under the flips: ranked by its smallest member.
-  static int orbit(int r) {
-    int lo = r;
-    for (int m : kDelightRegionMasks) lo = std::min(lo, r ^ m);
-    int rank = 0;
-    for (int q = 0; q < lo; ++q) {
-      int q_lo = q;
-      for (int m : kDelightRegionMasks) q_lo = std::min(q_lo, q ^ m);
-      rank += q_lo == q;
-    }
-    return rank;
-  }
   void coarse_of(const float* p, float* c) const {
     std::fill(c, c + kCoarseBins, 0.f);
     const int width = (columns_ + kOrbitBins - 1) / kOrbitBins;
     for (int r = 0; r < kDelightRegions; ++r) {
-      float* o = c + orbit(r) * kOrbitBins;
+      float* o = c + kOrbit[r] * kOrbitBins;
       for (int b = 0; b < columns_; ++b) o[b / width] += p[r * bins_ + b];
     }
     const float total = p[kDelightRegions * bins_];

@@ -1,6 +1,8 @@
 // Scan Context rows through the correlation theorem: the best dot product over all sector
 // shifts (and over the mirrored sector order: a convolution) is read from an inverse DFT of a
 // single ring-summed cross spectrum, so a pair costs O(R S + S^2 / 2) instead of O(R S^2).
+// Double precision (reference mode): database places interleaved, one per vector lane. Float:
+// the place database's packed-spectra pair kernel (scan_context_spectra.hpp).
 #include <cmath>
 
 #include "loopscan/core/place_matcher.hpp"
@@ -167,9 +169,9 @@ class PackedScanContextMatcher final : public PlaceMatcher {
 
 std::unique_ptr<PlaceMatcher> make_scan_context_matcher(Precision precision,
                                                         const ScanContextConfig& config) {
-  if (precision == Precision::Float) {
-    if (config.sectors % 2 == 0) return std::make_unique<PackedScanContextMatcher>(config);
-    return std::make_unique<ScanContextMatcher<float>>(config);
+  // The packed kernel needs an even sector count; odd counts (unusual) take the double path.
+  if (precision == Precision::Float && config.sectors % 2 == 0) {
+    return std::make_unique<PackedScanContextMatcher>(config);
   }
   return std::make_unique<ScanContextMatcher<double>>(config);
 }
