@@ -44,7 +44,7 @@ OnlineRun run_queries(const sim::SimulatedPlaces& queries, Database& db, QueryOp
   OnlineRun run;
   for (std::size_t i = 0; i < queries.places.size(); ++i) {
     if (mask_around_self) {
-      opt.accept = [i](std::size_t j, const PlaceRef&) { return (i > j ? i - j : j - i) >= 100; };
+      opt.accept = outside_band(i, 100);
     }
     const auto got = db.query(queries.places[i], 1, opt);
     if (grow) db.add({0, queries.keyframe_ids[i]}, queries.places[i]);

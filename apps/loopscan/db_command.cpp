@@ -92,10 +92,7 @@ void run_query(const QueryArgs& a) {
   double total_ms = 0;
   for (std::size_t i = 0; i < queries.places.size(); ++i) {
     if (a.mask > 0) {  // the database holds this very sequence: skip its neighbours
-      options.accept = [i, mask = static_cast<std::size_t>(a.mask)](std::size_t j,
-                                                                    const PlaceRef&) {
-        return (i > j ? i - j : j - i) >= mask;
-      };
+      options.accept = outside_band(i, static_cast<std::size_t>(a.mask));
     }
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<Candidate> found;

@@ -46,7 +46,7 @@ void run_demo(const DemoArgs& a) {
     sim::Conditions c = sim::Conditions::for_season(sim::parse_season(names[i]));
     c.session_seed = 100 + i;
     sim::VoSimConfig vo;
-    vo.seed = a.seed * 7919u + c.session_seed;
+    vo.seed = c.noise_seed(a.seed);
     sessions.push_back(simulate_session(route, world, c, camera, vo, {}));
     write_session(a.out + "/" + names[i], route, sessions.back());
   }

@@ -49,7 +49,7 @@ void run_render(const RenderArgs& a) {
   const int first = std::clamp(a.first, 0, total);
   const int count = a.frames < 0 ? total - first : std::min(a.frames, total - first);
   sim::RenderConfig rc;
-  rc.seed = a.seed * 7919u + conditions.session_seed;
+  rc.seed = conditions.noise_seed(a.seed);
   rc.noise_sigma = a.noise;
   rc.threads = std::max(1, a.threads);
   namespace fs = std::filesystem;

@@ -30,7 +30,7 @@ void run_simulate(SimulateArgs a) {
   if (a.gamma > 0) conditions.gamma = a.gamma;
   const sim::StereoCamera camera =
       a.calib.empty() ? sim::StereoCamera{} : sim::StereoCamera::read_orbslam_yaml(a.calib);
-  a.vo.seed = a.seed * 7919u + conditions.session_seed;
+  a.vo.seed = conditions.noise_seed(a.seed);
   a.vo.reset_keyframe_ids = a.resets;
   const Session s = simulate_session(t, world, conditions, camera, a.vo, vo_poses);
   write_session(a.out, t, s);

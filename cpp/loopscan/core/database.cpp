@@ -204,6 +204,13 @@ std::optional<Pose3x4> Database::pose(std::size_t i) const {
   return pose_values_[static_cast<std::size_t>(pose_slot_[i])];
 }
 
+std::function<bool(std::size_t, const PlaceRef&)> outside_band(std::size_t index,
+                                                               std::size_t width) {
+  return [index, width](std::size_t j, const PlaceRef&) {
+    return (index > j ? index - j : j - index) >= width;
+  };
+}
+
 double relative_yaw(const Eigen::Matrix3d& query_frame, const Eigen::Matrix3d& place_frame,
                     int shift, bool mirrored, int sectors) {
   // Descriptor coordinates a = B p (B = frame). A match maps the query's descriptor plane

@@ -124,6 +124,12 @@ class Database {
   std::vector<Pose3x4> pose_values_;
 };
 
+// An `accept` rule for querying a database with its own sequence, like the offline
+// same-session protocol: places whose index differs from `index` by less than `width` may not
+// match.
+std::function<bool(std::size_t, const PlaceRef&)> outside_band(std::size_t index,
+                                                               std::size_t width);
+
 // The yaw of Candidate::yaw_rad from a sector alignment and the two descriptor frames.
 double relative_yaw(const Eigen::Matrix3d& query_frame, const Eigen::Matrix3d& place_frame,
                     int shift, bool mirrored, int sectors);

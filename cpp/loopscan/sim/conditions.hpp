@@ -16,6 +16,8 @@ struct Conditions {
   double illumination_gain = 1.0;  // gray = 255 * clamp(gain * albedo, 0, 1)^gamma
   double gamma = 1.0;
   unsigned session_seed = 1;  // parked cars are redrawn from (world seed, session seed)
+  // Seed of a session's random draws (VO noise, sensor noise) from the world seed.
+  unsigned noise_seed(unsigned world_seed) const { return world_seed * 7919u + session_seed; }
 
   // Typical light of the season (winter: low sun, darker); session_seed stays 1.
   static Conditions for_season(Season s);

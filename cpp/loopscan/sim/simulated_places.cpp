@@ -20,7 +20,7 @@ SimulatedPlaces simulate_places(const Trajectory& route, Season season, unsigned
   Conditions conditions = Conditions::for_season(season);
   conditions.session_seed = session;
   VoSimConfig vo;
-  vo.seed = seed * 7919u + session;
+  vo.seed = conditions.noise_seed(seed);
   const std::vector<int> keyframes = select_keyframes(route);
   const VoOutput out = simulate_vo(route, keyframes, world, conditions, StereoCamera{}, vo);
   SequenceOptions options = SequenceOptions::make(method, Mode::Default);
