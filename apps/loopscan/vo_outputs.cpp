@@ -1,0 +1,151 @@
+#include "vo_outputs.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <CLI/CLI.hpp>
+
+#include "loopscan/io/atomic_file.hpp"
+#include "loopscan/io/errors.hpp"
+#include "loopscan/io/ground_truth_files.hpp"
+#include "loopscan/io/vo_files.hpp"
+
+namespace loopscan::cli {
+namespace {
+
+void print_progress(int done, int total, double fps) {
+  constexpr int width = 30;
+  const int filled = total > 0 ? done * width / total : width;
+  std::printf("\r[%s%s] %d / %d frames, %.1f fps", std::string(filled, '#').c_str(),
+              std::string(width - filled, '.').c_str(), done, total, fps);
+  if (done == total) std::printf("\n");
+  std::fflush(stdout);
+}
+
+nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nullptr; }
+
+nlohmann::json metrics_json(const eval::OdometryMetrics& m) {
+  nlohmann::json by_length = nlohmann::json::array();
+  for (std::size_t i = 0; i < m.lengths_m.size(); ++i) {
+    by_length.push_back({{"length_m", m.lengths_m[i]},
+                         {"translation_percent", m.translation_percent_by_length[i]},
+                         {"rotation_deg_per_100m", m.rotation_deg_per_100m_by_length[i]}});
+  }
+  return {{"segments", m.segments},
+          {"translation_percent", number_or_null(m.translation_percent)},
+          {"rotation_deg_per_100m", number_or_null(m.rotation_deg_per_100m)},
+          {"by_length", by_length},
+          {"ate_rmse_m", m.ate_rmse_m},
+          {"path_length_m", m.path_length_m},
+          {"end_point_error_percent", number_or_null(m.end_point_error_percent)}};
+}
+
+}  // namespace
+
+void add_vo_options(CLI::App& cmd, VoArgs& a) {
+  cmd.add_option("--kitti", a.kitti, "KITTI odometry sequence dir (image_0/, image_1/, calib.txt)")
+      ->required();
+  cmd.add_option("--out", a.out, "output directory")->required();
+  cmd.add_option("--gt", a.gt, "KITTI ground-truth poses (default: <kitti>/poses.txt if present)");
+  cmd.add_option("--first", a.first, "first frame")->capture_default_str();
+  cmd.add_option("--frames", a.frames, "number of frames (default: all)");
+  cmd.add_option("--points", a.points, "exported points per keyframe")->capture_default_str();
+  cmd.add_option("--segments", a.segments_m, "segment lengths in m (default: 100 200 ... 800)");
+  cmd.add_option("--blank-frames", a.blank_frames, "frames replaced by black images (tests resets)");
+  cmd.add_flag("--quiet", a.quiet, "no progress bar");
+}
+
+VoResult run_vo_and_write(const VoArgs& a) {
+  if (a.points < 1) throw std::invalid_argument("--points must be at least 1");
+  const io::KittiSequence sequence = io::open_kitti_sequence(a.kitti);
+  VoResult result;
+  result.gt_path = a.gt;
+  if (result.gt_path.empty() && std::filesystem::exists(a.kitti + "/poses.txt"))
+    result.gt_path = a.kitti + "/poses.txt";
+  std::vector<Eigen::Matrix<double, 3, 4>> gt_rows;
+  if (!result.gt_path.empty()) {
+    gt_rows = io::read_kitti_poses(result.gt_path);
+    if (gt_rows.size() < sequence.frames()) {
+      throw io::InputError(result.gt_path, gt_rows.size() + 1,
+                           "one pose per frame (" + std::to_string(sequence.frames()) +
+                               " frames in " + a.kitti + ")");
+    }
+  }
+  vo::VoConfig config;
+  config.points_per_keyframe = a.points;
+  vo::SequenceRunOptions options;
+  options.first = a.first;
+  options.frames = a.frames;
+  options.blank_frames = a.blank_frames;
+  if (!a.quiet) options.progress = print_progress;
+  result.run = vo::run_stereo_vo(sequence, config, options);
+  const vo::SequenceRun& run = result.run;
+
+  std::filesystem::create_directories(a.out);
+  io::write_sodso_poses(a.out + "/poses_history_file.txt", run.keyframe_poses);
+  io::write_sodso_points(a.out + "/pts_history_file.txt", run.points);
+  std::vector<Eigen::Matrix<double, 3, 4>> trajectory;
+  for (const Eigen::Isometry3d& T : run.trajectory) trajectory.push_back(T.matrix().topRows<3>());
+  io::write_kitti_poses(a.out + "/trajectory.txt", trajectory);
+
+  const vo::StageTimes& s = run.stage_ms;
+  nlohmann::json& j = result.summary;
+  j = {{"sequence", a.kitti},
+       {"first_frame", run.frame_ids.empty() ? 0 : run.frame_ids.front()},
+       {"frames", run.frame_ids.size()},
+       {"keyframes", run.keyframes.size()},
+       {"reset_frames", run.reset_frames},
+       {"mean_points_per_keyframe", run.mean_points_per_keyframe},
+       {"seconds", run.seconds},
+       {"fps", run.fps},
+       {"ms_per_frame",
+        {{"load_images", run.load_ms},
+         {"track", s.track},
+         {"pose", s.pose},
+         {"keyframe", s.keyframe},
+         {"bundle_adjustment", s.bundle_adjustment},
+         {"export_points", s.export_points}}},
+       {"camera",
+        {{"fx", run.camera.fx},
+         {"fy", run.camera.fy},
+         {"cx", run.camera.cx},
+         {"cy", run.camera.cy},
+         {"baseline_m", run.camera.baseline_m},
+         {"width", run.camera.width},
+         {"height", run.camera.height}}},
+       {"points_per_keyframe_target", config.points_per_keyframe}};
+  std::printf(
+      "VO: %zu frames of %dx%d, %zu keyframes, %zu resets, %.1f fps (ms per frame: load %.1f on "
+      "the reader thread, track %.1f, pose %.1f, keyframe %.1f, BA %.1f, points %.1f); %.0f "
+      "points per keyframe\n",
+      run.frame_ids.size(), run.camera.width, run.camera.height, run.keyframes.size(),
+      run.reset_frames.size(), run.fps, run.load_ms, s.track, s.pose, s.keyframe,
+      s.bundle_adjustment, s.export_points, run.mean_points_per_keyframe);
+  if (!gt_rows.empty() && run.frame_ids.size() >= 2) {
+    std::vector<Eigen::Isometry3d> gt;
+    for (int f : run.frame_ids) {
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      T.matrix().topRows<3>() = gt_rows[static_cast<std::size_t>(f)];
+      gt.push_back(T);
+    }
+    eval::OdometryOptions mo;
+    if (!a.segments_m.empty()) mo.segment_lengths_m = a.segments_m;
+    const eval::OdometryMetrics m = eval::odometry_metrics(gt, run.trajectory, mo);
+    j["ground_truth"] = result.gt_path;
+    j["metrics"] = metrics_json(m);
+    if (m.segments > 0) {
+      std::printf("KITTI metrics over %d segments: translation %.2f %%, rotation %.3f deg/100 m; ",
+                  m.segments, m.translation_percent, m.rotation_deg_per_100m);
+    } else {
+      std::printf("KITTI metrics: no segment fits a %.0f m path (use --segments); ",
+                  m.path_length_m);
+    }
+    std::printf("ATE %.3f m, end point %.2f %% of %.0f m\n", m.ate_rmse_m,
+                m.end_point_error_percent, m.path_length_m);
+  }
+  io::write_file_atomic(a.out + "/vo.json", j.dump(1) + "\n");
+  return result;
+}
+
+}  // namespace loopscan::cli

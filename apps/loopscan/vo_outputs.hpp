@@ -1,0 +1,35 @@
+#pragma once
+// Shared by `vo` and `run`: the VO over a KITTI-layout sequence with a progress bar, its files
+// (SO-DSO history, KITTI trajectory, vo.json) and KITTI-style accuracy against ground truth.
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "loopscan/eval/odometry_metrics.hpp"
+#include "loopscan/vo/run_sequence.hpp"
+
+namespace loopscan::cli {
+
+struct VoArgs {
+  std::string kitti, out, gt;  // gt: default <kitti>/poses.txt when it exists
+  int first = 0, frames = -1, points = 1000;
+  std::vector<int> blank_frames;
+  std::vector<double> segments_m;  // default: KITTI's 100..800 m
+  bool quiet = false;
+};
+
+struct VoResult {
+  vo::SequenceRun run;
+  std::string gt_path;  // empty: no ground truth
+  nlohmann::json summary;
+};
+
+void add_vo_options(CLI::App& cmd, VoArgs& a);
+
+// Runs the VO, writes poses_history_file.txt, pts_history_file.txt, trajectory.txt (KITTI, every
+// frame) and vo.json into a.out, prints the summary (fps, ms per stage, metrics).
+VoResult run_vo_and_write(const VoArgs& a);
+
+}  // namespace loopscan::cli

@@ -1,0 +1,110 @@
+#include "loopscan/vo/image_points.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include <opencv2/features2d.hpp>
+
+namespace loopscan::vo {
+
+StereoSearch stereo_search_for(const StereoIntrinsics& camera, const VoConfig& config,
+                               double min_depth_m, double max_depth_m, bool left_right_check) {
+  StereoSearch s;
+  s.min_disparity = camera.bf() / max_depth_m;
+  s.max_disparity = camera.bf() / min_depth_m;
+  s.half_window = config.stereo_half_window;
+  s.uniqueness = config.stereo_uniqueness;
+  s.left_right_check = left_right_check;
+  return s;
+}
+
+std::vector<cv::Point2f> detect_grid_corners(const cv::Mat& image,
+                                             const std::vector<cv::Point2f>& occupied,
+                                             const VoConfig& config) {
+  const int cols = config.grid_cols, rows = config.grid_rows;
+  const double cell_w = static_cast<double>(image.cols) / cols;
+  const double cell_h = static_cast<double>(image.rows) / rows;
+  auto cell_of = [&](const cv::Point2f& p) {
+    const int cx = std::clamp(static_cast<int>(p.x / cell_w), 0, cols - 1);
+    const int cy = std::clamp(static_cast<int>(p.y / cell_h), 0, rows - 1);
+    return cy * cols + cx;
+  };
+  std::vector<char> taken(static_cast<std::size_t>(cols * rows), 0);
+  for (const cv::Point2f& p : occupied) taken[cell_of(p)] = 1;
+  std::vector<cv::KeyPoint> corners;
+  cv::FAST(image, corners, config.fast_threshold, true);
+  std::vector<int> best(taken.size(), -1);
+  const float border = static_cast<float>(config.stereo_half_window + 2);
+  for (int i = 0; i < static_cast<int>(corners.size()); ++i) {
+    const cv::Point2f& p = corners[i].pt;
+    if (p.x < border || p.y < border || p.x >= image.cols - border || p.y >= image.rows - border)
+      continue;
+    const int c = cell_of(p);
+    if (taken[c]) continue;
+    if (best[c] < 0 || corners[i].response > corners[best[c]].response) best[c] = i;
+  }
+  std::vector<cv::Point2f> out;
+  for (int b : best)
+    if (b >= 0) out.push_back(corners[b].pt);
+  return out;
+}
+
+std::vector<CameraPoint> select_gradient_points(const cv::Mat& left, const cv::Mat& right,
+                                                const StereoIntrinsics& camera,
+                                                const VoConfig& config) {
+  const int target = std::max(1, config.points_per_keyframe);
+  const int block = std::max(
+      2, static_cast<int>(std::lround(std::sqrt(left.cols * left.rows / (2.0 * target)))));
+  const StereoSearch search =
+      stereo_search_for(camera, config, config.min_depth_m, config.point_max_depth_m, true);
+  const int margin = config.stereo_half_window + 1;
+  struct Candidate {
+    CameraPoint point;
+    float gradient;
+  };
+  std::vector<Candidate> found;
+  const float min_g2 = static_cast<float>(config.point_min_gradient * config.point_min_gradient);
+  for (int by = margin; by + block <= left.rows - margin; by += block) {
+    for (int bx = margin; bx + block <= left.cols - margin; bx += block) {
+      float best_g2 = min_g2;
+      int best_x = -1, best_y = -1;
+      for (int y = by; y < by + block; ++y) {
+        const std::uint8_t* up = left.ptr<std::uint8_t>(y - 1);
+        const std::uint8_t* row = left.ptr<std::uint8_t>(y);
+        const std::uint8_t* down = left.ptr<std::uint8_t>(y + 1);
+        for (int x = bx; x < bx + block; ++x) {
+          const float gx = 0.5f * (static_cast<float>(row[x + 1]) - row[x - 1]);
+          const float gy = 0.5f * (static_cast<float>(down[x]) - up[x]);
+          const float g2 = gx * gx + gy * gy;
+          if (g2 > best_g2) {
+            best_g2 = g2;
+            best_x = x;
+            best_y = y;
+          }
+        }
+      }
+      if (best_x < 0) continue;
+      const double d = match_disparity(left, right, best_x, best_y, search);
+      if (!std::isfinite(d) || d <= 0) continue;
+      CameraPoint p;
+      p.p_cam = back_project(camera, best_x, best_y, d);
+      if (p.p_cam.z() < config.min_depth_m || p.p_cam.z() > config.point_max_depth_m) continue;
+      p.gray = left.at<std::uint8_t>(best_y, best_x);
+      p.u = static_cast<float>(best_x);
+      p.v = static_cast<float>(best_y);
+      found.push_back({p, best_g2});
+    }
+  }
+  if (static_cast<int>(found.size()) > target) {
+    std::nth_element(found.begin(), found.begin() + target, found.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.gradient > b.gradient; });
+    found.resize(static_cast<std::size_t>(target));
+  }
+  std::vector<CameraPoint> out;
+  out.reserve(found.size());
+  for (const Candidate& c : found) out.push_back(c.point);
+  return out;
+}
+
+}  // namespace loopscan::vo

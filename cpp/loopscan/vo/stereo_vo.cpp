@@ -1,0 +1,301 @@
+#include "loopscan/vo/stereo_vo.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/video/tracking.hpp>
+
+namespace loopscan::vo {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+double rotation_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
+}
+
+Eigen::Isometry3d from_rvec_tvec(const cv::Mat& rvec, const cv::Mat& tvec) {
+  cv::Mat R;
+  cv::Rodrigues(rvec, R);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) T.linear()(i, j) = R.at<double>(i, j);
+    T.translation()[i] = tvec.at<double>(i);
+  }
+  return T;
+}
+
+bool project(const StereoIntrinsics& c, const Eigen::Vector3d& p, cv::Point2f& px) {
+  if (p.z() <= 0.1) return false;
+  px = cv::Point2f(static_cast<float>(c.fx * p.x() / p.z() + c.cx),
+                   static_cast<float>(c.fy * p.y() / p.z() + c.cy));
+  return px.x >= 0 && px.y >= 0 && px.x <= c.width - 1 && px.y <= c.height - 1;
+}
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+}  // namespace
+
+std::vector<IdPoint> world_points(const FinishedKeyframe& kf) {
+  std::vector<IdPoint> out;
+  out.reserve(kf.camera_points.size());
+  for (const CameraPoint& p : kf.camera_points) out.push_back({kf.frame, kf.T_world_cam * p.p_cam, p.gray});
+  return out;
+}
+
+StereoVo::StereoVo(const StereoIntrinsics& camera, const VoConfig& config)
+    : camera_(camera), config_(config), px_scale_(pixel_scale(camera)) {
+  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx > 0) || !(camera.baseline_m > 0))
+    throw std::invalid_argument("StereoVo: camera needs a positive size, focal length and baseline");
+  if (config.window_keyframes < 2 || config.fixed_keyframes < 1)
+    throw std::invalid_argument("StereoVo: the window needs >= 2 keyframes, >= 1 of them fixed");
+}
+
+FrameResult StereoVo::process(int frame, const cv::Mat& left, const cv::Mat& right) {
+  if (left.type() != CV_8UC1 || right.type() != CV_8UC1 || left.size() != right.size() ||
+      left.cols != camera_.width || left.rows != camera_.height) {
+    throw std::invalid_argument("StereoVo: frame " + std::to_string(frame) +
+                                ": expected two 8-bit gray images of " +
+                                std::to_string(camera_.width) + "x" +
+                                std::to_string(camera_.height));
+  }
+  FrameResult r;
+  r.frame = frame;
+  auto t0 = Clock::now();
+  const cv::Size window(config_.klt_window_px, config_.klt_window_px);
+  std::vector<cv::Mat> pyramid;
+  cv::buildOpticalFlowPyramid(left, pyramid, window, config_.klt_levels);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (!started_) {
+    started_ = true;
+    times_.track += ms_since(t0);
+    add_keyframe(frame, left, right, T, false);
+    r.keyframe = true;
+  } else {
+    const Eigen::Isometry3d predicted = last_pose_ * velocity_;
+    const bool tracked = track(predicted, pyramid, r);
+    times_.track += ms_since(t0);
+    t0 = Clock::now();
+    const bool posed = tracked && estimate_pose(predicted, T, r);
+    times_.pose += ms_since(t0);
+    if (!posed) {
+      // Explicit reset: bridge with the motion model, rebuild the map from this stereo pair.
+      T = predicted;
+      r.reset = true;
+      resets_.push_back(frame);
+      while (!window_.empty()) finish_oldest();
+      tracks_.clear();
+      add_keyframe(frame, left, right, T, true);
+      r.keyframe = true;
+    } else if (needs_keyframe(T, r.inliers)) {
+      add_keyframe(frame, left, right, T, false);
+      r.keyframe = true;
+    }
+    velocity_ = last_pose_.inverse() * T;
+  }
+  last_pose_ = T;
+  previous_pyramid_ = std::move(pyramid);
+  const Keyframe& kf = window_.back();
+  anchors_.push_back({kf.index, kf.T_world_cam.inverse() * T});
+  r.T_world_cam = T;
+  return r;
+}
+
+bool StereoVo::track(const Eigen::Isometry3d& predicted, const std::vector<cv::Mat>& pyramid,
+                     FrameResult& r) {
+  if (tracks_.empty()) return false;
+  std::vector<cv::Point2f> previous, current;
+  const Eigen::Isometry3d T_cam_world = predicted.inverse();
+  for (const Track& t : tracks_) {
+    previous.push_back(t.px);
+    cv::Point2f guess;
+    current.push_back(project(camera_, T_cam_world * map_[t.point], guess) ? guess : t.px);
+  }
+  const cv::Size window(config_.klt_window_px, config_.klt_window_px);
+  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
+  std::vector<uchar> status, back_status;
+  std::vector<float> error;
+  cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous, current, status, error, window,
+                           config_.klt_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+  std::vector<cv::Point2f> back = previous;
+  cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, current, back, back_status, error, window,
+                           config_.klt_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+  const double max_fb = config_.forward_backward_px * px_scale_;
+  std::vector<Track> kept;
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    const cv::Point2f& p = current[i];
+    if (!status[i] || !back_status[i] || cv::norm(back[i] - previous[i]) > max_fb) continue;
+    if (p.x < 0 || p.y < 0 || p.x > camera_.width - 1 || p.y > camera_.height - 1) continue;
+    kept.push_back({tracks_[i].point, p});
+  }
+  tracks_ = std::move(kept);
+  r.tracked = static_cast<int>(tracks_.size());
+  return r.tracked >= config_.min_inliers;
+}
+
+bool StereoVo::estimate_pose(const Eigen::Isometry3d& predicted, Eigen::Isometry3d& T,
+                             FrameResult& r) {
+  std::vector<cv::Point3d> object;
+  std::vector<cv::Point2d> image;
+  for (const Track& t : tracks_) {
+    const Eigen::Vector3d& p = map_[t.point];
+    object.emplace_back(p.x(), p.y(), p.z());
+    image.emplace_back(t.px.x, t.px.y);
+  }
+  const cv::Matx33d K(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
+  const double threshold = config_.ransac_reprojection_px * px_scale_;
+  cv::Mat rvec, tvec;
+  std::vector<int> inliers;
+  const bool ok = cv::solvePnPRansac(object, image, K, cv::noArray(), rvec, tvec, false,
+                                     config_.ransac_iterations, static_cast<float>(threshold),
+                                     0.999, inliers, cv::SOLVEPNP_AP3P);
+  if (!ok || static_cast<int>(inliers.size()) < config_.min_inliers) return false;
+  std::vector<cv::Point3d> object_in;
+  std::vector<cv::Point2d> image_in;
+  for (int i : inliers) {
+    object_in.push_back(object[i]);
+    image_in.push_back(image[i]);
+  }
+  cv::solvePnPRefineLM(object_in, image_in, K, cv::noArray(), rvec, tvec);
+  const Eigen::Isometry3d T_cam_world = from_rvec_tvec(rvec, tvec);
+  std::vector<Track> kept;
+  for (const Track& t : tracks_) {
+    cv::Point2f px;
+    if (project(camera_, T_cam_world * map_[t.point], px) && cv::norm(px - t.px) < threshold)
+      kept.push_back(t);
+  }
+  r.inliers = static_cast<int>(kept.size());
+  if (r.inliers < config_.min_inliers) return false;
+  T = T_cam_world.inverse();
+  if ((T.translation() - last_pose_.translation()).norm() > config_.max_step_m) return false;
+  (void)predicted;
+  tracks_ = std::move(kept);
+  return true;
+}
+
+bool StereoVo::needs_keyframe(const Eigen::Isometry3d& T, int inliers) const {
+  const Keyframe& kf = window_.back();
+  return (T.translation() - kf.T_world_cam.translation()).norm() > config_.keyframe_distance_m ||
+         rotation_deg(kf.T_world_cam, T) > config_.keyframe_rotation_deg ||
+         inliers < config_.keyframe_min_track_ratio * keyframe_tracks_;
+}
+
+double StereoVo::right_u(const cv::Mat& left, const cv::Mat& right, float u, float v) const {
+  const StereoSearch search =
+      stereo_search_for(camera_, config_, config_.min_depth_m, config_.max_depth_m, false);
+  const double d = match_disparity(left, right, static_cast<int>(std::lround(u)),
+                                   static_cast<int>(std::lround(v)), search);
+  return std::isfinite(d) && d > 0 ? u - d : kNaN;
+}
+
+void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right,
+                            Eigen::Isometry3d& T, bool reset) {
+  auto t0 = Clock::now();
+  Keyframe kf{frame, T, reset, keyframes_++, {}, {}};
+  std::vector<cv::Point2f> occupied;
+  for (const Track& t : tracks_) {
+    kf.observations.push_back({t.point, t.px.x, t.px.y, right_u(left, right, t.px.x, t.px.y)});
+    occupied.push_back(t.px);
+  }
+  const StereoSearch search =
+      stereo_search_for(camera_, config_, config_.min_depth_m, config_.max_depth_m, false);
+  for (const cv::Point2f& c : detect_grid_corners(left, occupied, config_)) {
+    const double d = match_disparity(left, right, static_cast<int>(std::lround(c.x)),
+                                     static_cast<int>(std::lround(c.y)), search);
+    if (!std::isfinite(d) || d <= 0) continue;
+    const int id = static_cast<int>(map_.size());
+    map_.push_back(T * back_project(camera_, c.x, c.y, d));
+    tracks_.push_back({id, c});
+    kf.observations.push_back({id, c.x, c.y, c.x - d});
+  }
+  times_.keyframe += ms_since(t0);
+  t0 = Clock::now();
+  kf.camera_points = select_gradient_points(left, right, camera_, config_);
+  times_.export_points += ms_since(t0);
+  window_.push_back(std::move(kf));
+  final_keyframe_poses_.push_back(T);
+  t0 = Clock::now();
+  run_window_ba(T);
+  times_.bundle_adjustment += ms_since(t0);
+  while (static_cast<int>(window_.size()) > config_.window_keyframes) finish_oldest();
+  keyframe_tracks_ = static_cast<int>(tracks_.size());
+}
+
+void StereoVo::run_window_ba(Eigen::Isometry3d& T) {
+  if (window_.size() < 2) return;
+  BaProblem problem;
+  const int n = static_cast<int>(window_.size());
+  const int n_fixed = std::min(config_.fixed_keyframes, n - 1);
+  // Points constrained in depth: seen twice in the window or once with a right-image match.
+  std::unordered_map<int, int> weight;
+  for (const Keyframe& kf : window_)
+    for (const Observation& o : kf.observations) weight[o.point] += std::isfinite(o.u_right) ? 2 : 1;
+  std::unordered_map<int, int> local;
+  for (int i = 0; i < n; ++i) {
+    problem.T_cam_world.push_back(window_[i].T_world_cam.inverse());
+    problem.fixed.push_back(i < n_fixed);
+    for (const Observation& o : window_[i].observations) {
+      if (weight[o.point] < 2) continue;
+      auto [it, inserted] = local.try_emplace(o.point, static_cast<int>(problem.points.size()));
+      if (inserted) problem.points.push_back(map_[o.point]);
+      problem.observations.push_back({i, it->second, o.u, o.v, o.u_right});
+    }
+  }
+  if (problem.observations.empty()) return;
+  bundle_adjust(problem, camera_, config_.ba_iterations, config_.ba_huber_px * px_scale_);
+  for (int i = n_fixed; i < n; ++i) {
+    window_[i].T_world_cam = problem.T_cam_world[i].inverse();
+    final_keyframe_poses_[window_[i].index] = window_[i].T_world_cam;
+  }
+  for (const auto& [id, index] : local) map_[id] = problem.points[index];
+  // Drop observations the optimum does not explain; a current track among them is dropped too.
+  const double max_error = 2.0 * config_.ransac_reprojection_px * px_scale_;
+  std::unordered_map<int, bool> bad_current;
+  std::size_t k = 0;
+  for (int i = 0; i < n; ++i) {
+    std::vector<Observation> kept;
+    for (const Observation& o : window_[i].observations) {
+      if (weight[o.point] < 2) {
+        kept.push_back(o);
+        continue;
+      }
+      const bool bad = reprojection_error(problem, problem.observations[k++], camera_) > max_error;
+      if (!bad) kept.push_back(o);
+      if (bad && i == n - 1) bad_current[o.point] = true;
+    }
+    window_[i].observations = std::move(kept);
+  }
+  if (!bad_current.empty()) {
+    std::vector<Track> kept;
+    for (const Track& t : tracks_)
+      if (!bad_current.count(t.point)) kept.push_back(t);
+    tracks_ = std::move(kept);
+  }
+  T = window_.back().T_world_cam;
+}
+
+void StereoVo::finish_oldest() {
+  Keyframe& kf = window_.front();
+  finished_.push_back({kf.frame, kf.T_world_cam, kf.reset, std::move(kf.camera_points)});
+  window_.erase(window_.begin());
+}
+
+void StereoVo::finish() {
+  while (!window_.empty()) finish_oldest();
+}
+
+std::vector<Eigen::Isometry3d> StereoVo::trajectory() const {
+  std::vector<Eigen::Isometry3d> out;
+  out.reserve(anchors_.size());
+  for (const FrameAnchor& a : anchors_) out.push_back(final_keyframe_poses_[a.keyframe] * a.T_kf_frame);
+  return out;
+}
+
+}  // namespace loopscan::vo
