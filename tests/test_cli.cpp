@@ -370,5 +370,68 @@ TEST(Cli, RenderWritesTheKittiOdometryLayout) {
   EXPECT_THROW(io::read_kitti_calib((d / "seq/calib.txt").string()), io::InputError);
 }
 
+
+TEST(Cli, VoAndRunFromRenderedImages) {
+  const fs::path d = temp_dir("vo");
+  const std::string seq = (d / "seq").string();
+  ASSERT_EQ(run("render --trajectory builtin:short --scale 0.25 --frames 30 --out " + seq).code, 0);
+  const CliResult vo =
+      run("vo --kitti " + seq + " --out " + (d / "vo").string() + " --segments 10 20 --quiet");
+  ASSERT_EQ(vo.code, 0) << vo.output;
+  EXPECT_NE(vo.output.find("fps"), std::string::npos) << vo.output;
+  EXPECT_NE(vo.output.find("translation"), std::string::npos) << vo.output;
+  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "trajectory.txt", "vo.json"})
+    EXPECT_TRUE(fs::exists(d / "vo" / f)) << f;
+  std::ifstream json_in(d / "vo/vo.json");
+  const nlohmann::json j = nlohmann::json::parse(json_in);
+  EXPECT_EQ(j["frames"].get<int>(), 30);
+  EXPECT_GT(j["metrics"]["segments"].get<int>(), 0);
+  EXPECT_LT(j["metrics"]["translation_percent"].get<double>(), 5.0);
+  EXPECT_GT(j["fps"].get<double>(), 0.0);
+  // `describe` reads the VO's SO-DSO history unchanged.
+  const CliResult described = run("describe --method sc --poses " + (d / "vo/poses_history_file.txt").string() +
+                                  " --points " + (d / "vo/pts_history_file.txt").string() +
+                                  " --out " + (d / "sc").string());
+  EXPECT_EQ(described.code, 0) << described.output;
+  EXPECT_TRUE(fs::exists(d / "sc/signatures.txt"));
+  // Blank frames: an explicit reset, reported in vo.json.
+  ASSERT_EQ(run("vo --kitti " + seq + " --out " + (d / "vo_blank").string() +
+                " --quiet --blank-frames 12 13")
+                .code,
+            0);
+  std::ifstream blank_in(d / "vo_blank/vo.json");
+  const nlohmann::json b = nlohmann::json::parse(blank_in);
+  ASSERT_FALSE(b["reset_frames"].empty());
+  EXPECT_EQ(b["reset_frames"][0].get<int>(), 12);
+  // run: VO + describe + evaluate + report.
+  const CliResult all = run("run --kitti " + seq + " --out " + (d / "run").string() +
+                            " --methods sc delight --segments 10 --quiet");
+  ASSERT_EQ(all.code, 0) << all.output;
+  for (const char* f : {"report.html", "summary.json", "vo/vo.json", "sc/signatures.txt",
+                        "delight/signatures.txt"})
+    EXPECT_TRUE(fs::exists(d / "run" / f)) << f;
+  std::ifstream summary_in(d / "run/summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_in);
+  ASSERT_EQ(summary["methods"].size(), 2u);
+  for (const nlohmann::json& m : summary["methods"]) {
+    // 30 m are too short for the imitation's warm-up plus the 100-keyframe mask: nothing to score.
+    EXPECT_EQ(m["evaluated"].get<bool>(), m["signatures"].get<int>() > 0);
+    EXPECT_EQ(fs::exists(d / "run" / m["method"].get<std::string>() / "metrics.json"),
+              m["evaluated"].get<bool>());
+  }
+  EXPECT_FALSE(has_temp_files(d));
+  // Bad input: exit code 2, the file named, nothing written.
+  const CliResult missing = run("vo --kitti " + (d / "nope").string() + " --out " + (d / "x").string());
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.output.find("nope"), std::string::npos) << missing.output;
+  EXPECT_FALSE(fs::exists(d / "x"));
+  EXPECT_EQ(run("vo --kitti " + seq + " --points 0 --out " + (d / "y").string()).code, 2);
+  write(d / "seq/poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n");
+  const CliResult short_gt = run("vo --kitti " + seq + " --out " + (d / "z").string());
+  EXPECT_EQ(short_gt.code, 2);
+  EXPECT_NE(short_gt.output.find("poses.txt:2"), std::string::npos) << short_gt.output;
+  EXPECT_FALSE(fs::exists(d / "z"));
+}
+
 }  // namespace
 }  // namespace loopscan

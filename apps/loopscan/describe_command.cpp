@@ -10,9 +10,9 @@
 #include "loopscan/core/describe_sequence.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/incoming_ids.hpp"
-#include "loopscan/io/matrix_text.hpp"
 #include "loopscan/io/sodso.hpp"
 #include "options.hpp"
+#include "signature_outputs.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -22,14 +22,6 @@ struct DescribeArgs {
   double range_m = 45.0;
   int threads = 1;
 };
-
-Eigen::MatrixXd stack(const std::vector<Signature>& sigs, Method method) {
-  const int rows = rows_per_place(method);
-  const Eigen::Index cols = sigs.empty() ? signature_columns(method) : sigs.front().cols();
-  Eigen::MatrixXd all(static_cast<Eigen::Index>(sigs.size()) * rows, cols);
-  for (std::size_t i = 0; i < sigs.size(); ++i) all.middleRows(i * rows, rows) = sigs[i];
-  return all;
-}
 
 void run_describe(const DescribeArgs& a) {
   const Method method = parse_method(a.method);
@@ -61,16 +53,7 @@ void run_describe(const DescribeArgs& a) {
                  poses.size(), options.imitation.init_frames);
   }
 
-  std::filesystem::create_directories(a.out);
-  io::write_matrix_text(a.out + "/signatures.txt", stack(result.signatures, method));
-  io::write_incoming_ids(a.out + "/incoming_id_file.txt", result.keyframe_ids);
-  // Descriptor axes per place (row-major 3x3): `db` turns Scan Context shifts into yaw with them.
-  Eigen::MatrixXd frames(static_cast<Eigen::Index>(result.frames.size()), 9);
-  for (std::size_t i = 0; i < result.frames.size(); ++i) {
-    for (int k = 0; k < 9; ++k)
-      frames(static_cast<Eigen::Index>(i), k) = result.frames[i](k / 3, k % 3);
-  }
-  io::write_matrix_text(a.out + "/frames.txt", frames);
+  write_signatures(a.out, result, method);
   const nlohmann::json timing = {
       {"method", method_name(method)},
       {"mode", mode_name(mode)},

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   loopscan::cli::add_db_command(app);
   loopscan::cli::add_render_command(app);
   loopscan::cli::add_vo_command(app);
+  loopscan::cli::add_run_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -47,9 +47,11 @@ double search(const cv::Mat& ref, const cv::Mat& other, int x, int y, int direct
     if (std::abs(i - best) > 1 && costs[i] < second) second = costs[i];
   if (best == 0 || best == n - 1) return kNaN;
   if (second == 0 || costs[best] >= uniqueness * second) return kNaN;
+  // Equiangular (V-shaped) sub-pixel fit: SAD grows linearly away from the match, so a
+  // parabola would pull estimates towards whole pixels.
   const double c0 = costs[best - 1], c1 = costs[best], c2 = costs[best + 1];
-  const double denom = c0 - 2.0 * c1 + c2;
-  const double offset = denom > 0 ? 0.5 * (c0 - c2) / denom : 0.0;
+  const double slope = std::max(c0, c2) - c1;
+  const double offset = slope > 0 ? 0.5 * (c0 - c2) / slope : 0.0;
   return d_lo + best + std::clamp(offset, -0.5, 0.5);
 }
 

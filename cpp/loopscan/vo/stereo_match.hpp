@@ -1,6 +1,6 @@
 #pragma once
 // Sparse stereo matching on rectified 8-bit images: sum of absolute differences over a square
-// window along the row, a uniqueness test and parabola sub-pixel refinement.
+// window along the row, a uniqueness test and equiangular sub-pixel refinement.
 #include <opencv2/core.hpp>
 
 namespace loopscan::vo {

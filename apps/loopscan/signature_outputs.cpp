@@ -1,0 +1,34 @@
+#include "signature_outputs.hpp"
+
+#include <filesystem>
+
+#include "loopscan/io/incoming_ids.hpp"
+#include "loopscan/io/matrix_text.hpp"
+
+namespace loopscan::cli {
+namespace {
+
+Eigen::MatrixXd stack(const std::vector<Signature>& sigs, Method method) {
+  const int rows = rows_per_place(method);
+  const Eigen::Index cols = sigs.empty() ? signature_columns(method) : sigs.front().cols();
+  Eigen::MatrixXd all(static_cast<Eigen::Index>(sigs.size()) * rows, cols);
+  for (std::size_t i = 0; i < sigs.size(); ++i) all.middleRows(i * rows, rows) = sigs[i];
+  return all;
+}
+
+}  // namespace
+
+void write_signatures(const std::string& dir, const SequenceSignatures& result, Method method) {
+  std::filesystem::create_directories(dir);
+  io::write_matrix_text(dir + "/signatures.txt", stack(result.signatures, method));
+  io::write_incoming_ids(dir + "/incoming_id_file.txt", result.keyframe_ids);
+  // Descriptor axes per place (row-major 3x3): `db` turns Scan Context shifts into yaw with them.
+  Eigen::MatrixXd frames(static_cast<Eigen::Index>(result.frames.size()), 9);
+  for (std::size_t i = 0; i < result.frames.size(); ++i) {
+    for (int k = 0; k < 9; ++k)
+      frames(static_cast<Eigen::Index>(i), k) = result.frames[i](k / 3, k % 3);
+  }
+  io::write_matrix_text(dir + "/frames.txt", frames);
+}
+
+}  // namespace loopscan::cli

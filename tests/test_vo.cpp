@@ -1,0 +1,298 @@
+// Stereo VO: the sparse stereo matcher, corner bucketing and bundle adjustment against known
+// answers, then the whole VO on small rendered sequences of the synthetic city (straight line,
+// a right turn, blank frames forcing a reset) against the renderer's ground truth.
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "loopscan/eval/odometry_metrics.hpp"
+#include "loopscan/sim/renderer.hpp"
+#include "loopscan/sim/trajectory.hpp"
+#include "loopscan/sim/world.hpp"
+#include "loopscan/vo/image_points.hpp"
+#include "loopscan/vo/stereo_vo.hpp"
+#include "loopscan/vo/window_ba.hpp"
+
+namespace loopscan {
+namespace {
+
+cv::Mat random_texture(int w, int h, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> gray(0, 255);
+  cv::Mat m(h, w, CV_8UC1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) m.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(gray(rng));
+  return m;
+}
+
+TEST(StereoMatch, RecoversAKnownShiftAndRejectsFlatImages) {
+  const cv::Mat left = random_texture(200, 40, 3);
+  for (int shift : {4, 17, 60}) {
+    cv::Mat right(left.size(), CV_8UC1, cv::Scalar(0));
+    // right(x) = left(x + shift): a point at left x appears at x - shift in the right image.
+    left.colRange(shift, left.cols).copyTo(right.colRange(0, left.cols - shift));
+    vo::StereoSearch s{1, 80, 2, 0.85, true};
+    for (int x = 100; x < 190; x += 7) {
+      const double d = vo::match_disparity(left, right, x, 20, s);
+      EXPECT_NEAR(d, shift, 0.25) << "x " << x << " shift " << shift;
+    }
+  }
+  const cv::Mat flat(40, 200, CV_8UC1, cv::Scalar(90));
+  EXPECT_FALSE(std::isfinite(vo::match_disparity(flat, flat, 100, 20, {1, 80, 2, 0.85, false})));
+  // Window leaving the image.
+  EXPECT_FALSE(std::isfinite(vo::match_disparity(left, left, 1, 20, {1, 80, 2, 0.85, false})));
+}
+
+TEST(StereoMatch, SubPixelShiftOfASmoothTexture) {
+  // A smooth pattern sampled at x and at x + 10.4: the parabola fit lands within 0.2 px.
+  auto pattern = [](double x, double y) {
+    return 128 + 60 * std::sin(0.37 * x + 0.2 * y) + 40 * std::cos(0.11 * x * 1.3 - 0.5 * y);
+  };
+  cv::Mat left(40, 220, CV_8UC1), right(40, 220, CV_8UC1);
+  for (int y = 0; y < 40; ++y) {
+    for (int x = 0; x < 220; ++x) {
+      left.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(pattern(x, y));
+      right.at<std::uint8_t>(y, x) = cv::saturate_cast<std::uint8_t>(pattern(x + 10.4, y));
+    }
+  }
+  int found = 0;
+  for (int x = 60; x < 200; x += 5) {
+    const double d = vo::match_disparity(left, right, x, 20, {2, 40, 3, 0.95, false});
+    if (!std::isfinite(d)) continue;
+    ++found;
+    EXPECT_NEAR(d, 10.4, 0.2) << x;
+  }
+  EXPECT_GT(found, 20);
+}
+
+TEST(Corners, AtMostOnePerFreeCell) {
+  const cv::Mat image = random_texture(400, 120, 5);
+  vo::VoConfig config;
+  config.grid_cols = 10;
+  config.grid_rows = 4;
+  const std::vector<cv::Point2f> occupied = {{15, 15}, {390, 110}};
+  const std::vector<cv::Point2f> corners = vo::detect_grid_corners(image, occupied, config);
+  std::set<int> cells;
+  for (const cv::Point2f& p : corners) {
+    const int cell = static_cast<int>(p.y / 30) * 10 + static_cast<int>(p.x / 40);
+    EXPECT_TRUE(cells.insert(cell).second) << "two corners in cell " << cell;
+    EXPECT_NE(cell, 0);
+    EXPECT_NE(cell, 39);
+  }
+  EXPECT_GE(corners.size(), 30u);  // random texture: nearly every free cell has a corner
+}
+
+TEST(BundleAdjustment, RecoversPerturbedPosesAndPoints) {
+  vo::StereoIntrinsics cam;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  vo::BaProblem truth;
+  for (int k = 0; k < 5; ++k) {
+    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+    T_world_cam.translation() = Eigen::Vector3d(0.1 * k, 0.0, 1.2 * k);
+    T_world_cam.linear() = Eigen::AngleAxisd(0.03 * k, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    truth.T_cam_world.push_back(T_world_cam.inverse());
+    truth.fixed.push_back(k < 2);
+  }
+  for (int i = 0; i < 150; ++i)
+    truth.points.emplace_back(8 * uni(rng), 2 * uni(rng), 15 + 10 * uni(rng));
+  for (int k = 0; k < 5; ++k) {
+    for (int i = 0; i < 150; ++i) {
+      const Eigen::Vector3d p = truth.T_cam_world[k] * truth.points[i];
+      const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
+      truth.observations.push_back({k, i, u, v, (i % 3 == 0) ? u - cam.bf() / p.z() : NAN});
+    }
+  }
+  vo::BaProblem problem = truth;
+  for (int k = 2; k < 5; ++k) {
+    problem.T_cam_world[k].translation() += 0.05 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    problem.T_cam_world[k].linear() =
+        Eigen::AngleAxisd(0.005, Eigen::Vector3d::UnitX()).toRotationMatrix() *
+        problem.T_cam_world[k].linear();
+  }
+  for (Eigen::Vector3d& p : problem.points) p += 0.05 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  const vo::BaSummary s = vo::bundle_adjust(problem, cam, 50, 1.5);
+  EXPECT_LT(s.final_cost, 1e-6 * std::max(1.0, s.initial_cost));
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_LT((problem.T_cam_world[k].translation() - truth.T_cam_world[k].translation()).norm(), 1e-4) << k;
+  }
+  EXPECT_TRUE(problem.T_cam_world[0].isApprox(truth.T_cam_world[0]));  // fixed: untouched
+  for (const vo::BaObservation& o : problem.observations)
+    EXPECT_LT(vo::reprojection_error(problem, o, cam), 1e-3);
+  vo::BaProblem no_gauge = truth;
+  no_gauge.fixed.assign(5, false);
+  EXPECT_THROW(vo::bundle_adjust(no_gauge, cam, 5, 1.5), std::invalid_argument);
+}
+
+// ---- the VO on rendered images -------------------------------------------------------------
+
+struct Scene {
+  sim::Trajectory route = sim::make_builtin_trajectory("short");
+  sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
+  sim::Conditions conditions = sim::Conditions::for_season(sim::Season::Summer);
+  sim::StereoCamera camera = sim::scaled_camera(sim::StereoCamera{}, 0.5);
+};
+
+const Scene& scene() {
+  static const Scene s;
+  return s;
+}
+
+cv::Mat render(int frame, int camera_index) {
+  const Scene& s = scene();
+  sim::RenderConfig rc;
+  rc.threads = 2;
+  const sim::GrayImage g = sim::render_view(s.world, s.conditions, s.camera,
+                                            s.route.T_world_cam[frame], camera_index, frame, rc);
+  return cv::Mat(g.height, g.width, CV_8UC1, const_cast<std::uint8_t*>(g.pixels.data())).clone();
+}
+
+vo::StereoIntrinsics intrinsics() {
+  const sim::StereoCamera& c = scene().camera;
+  vo::StereoIntrinsics k;
+  k.fx = c.fx;
+  k.fy = c.fy;
+  k.cx = c.cx;
+  k.cy = c.cy;
+  k.baseline_m = c.baseline();
+  k.width = c.width;
+  k.height = c.height;
+  return k;
+}
+
+struct Drive {
+  std::vector<vo::FrameResult> frames;
+  std::vector<Eigen::Isometry3d> trajectory, gt;  // gt re-anchored at the first frame
+  std::vector<vo::FinishedKeyframe> keyframes;
+  std::vector<cv::Mat> left;
+  int first = 0;
+};
+
+Drive drive(int first, int count, const std::vector<int>& blank = {}) {
+  Drive d;
+  d.first = first;
+  vo::StereoVo vo(intrinsics());
+  const Eigen::Isometry3d T0 = scene().route.T_world_cam[first];
+  for (int f = first; f < first + count; ++f) {
+    cv::Mat left = render(f, 0), right = render(f, 1);
+    if (std::find(blank.begin(), blank.end(), f) != blank.end()) {
+      left.setTo(0);
+      right.setTo(0);
+    }
+    d.frames.push_back(vo.process(f, left, right));
+    d.gt.push_back(T0.inverse() * scene().route.T_world_cam[f]);
+    d.left.push_back(left);
+  }
+  vo.finish();
+  d.trajectory = vo.trajectory();
+  d.keyframes = vo.finished_keyframes();
+  return d;
+}
+
+double yaw_change_deg(const std::vector<Eigen::Isometry3d>& T) {
+  return Eigen::AngleAxisd(T.front().linear().transpose() * T.back().linear()).angle() * 180 / M_PI;
+}
+
+TEST(StereoVo, TracksAStraightStreet) {
+  const Drive d = drive(0, 40);
+  ASSERT_EQ(d.trajectory.size(), 40u);
+  for (const vo::FrameResult& f : d.frames) EXPECT_FALSE(f.reset) << f.frame;
+  eval::OdometryOptions o;
+  o.segment_lengths_m = {10, 20, 30};
+  o.step_frames = 1;
+  const eval::OdometryMetrics m = eval::odometry_metrics(d.gt, d.trajectory, o);
+  std::printf("straight 39 m: translation %.3f %%, rotation %.3f deg/100 m, ATE %.3f m\n",
+              m.translation_percent, m.rotation_deg_per_100m, m.ate_rmse_m);
+  EXPECT_LT(m.translation_percent, 1.5);
+  EXPECT_LT(m.rotation_deg_per_100m, 3.0);
+  EXPECT_LT((d.trajectory.back().translation() - d.gt.back().translation()).norm(), 0.4);
+  EXPECT_GE(d.keyframes.size(), 19u);  // the 1.2 m policy at 1 m per frame: every other frame
+  EXPECT_LE(d.keyframes.size(), 40u);
+}
+
+TEST(StereoVo, TracksARightTurn) {
+  // Frames 60..99 of the short route: the end of the first street, a 90-degree right turn
+  // (radius 10 m) and the start of the next street.
+  const Drive d = drive(60, 40);
+  const double turned = yaw_change_deg(d.gt);
+  ASSERT_GT(turned, 80.0);
+  eval::OdometryOptions o;
+  o.segment_lengths_m = {10, 20, 30};
+  o.step_frames = 1;
+  const eval::OdometryMetrics m = eval::odometry_metrics(d.gt, d.trajectory, o);
+  std::printf("turn of %.0f deg over 39 m: translation %.3f %%, rotation %.3f deg/100 m, ATE %.3f m\n",
+              turned, m.translation_percent, m.rotation_deg_per_100m, m.ate_rmse_m);
+  EXPECT_LT(m.translation_percent, 2.0);
+  EXPECT_LT(m.rotation_deg_per_100m, 5.0);
+  EXPECT_NEAR(yaw_change_deg(d.trajectory), turned, 1.0);
+}
+
+TEST(StereoVo, ExportedPointsLieOnTheSurfacesWhereTheyWereSelected) {
+  const Drive d = drive(0, 12);
+  const Scene& s = scene();
+  const Eigen::Isometry3d T0 = s.route.T_world_cam[0];
+  int checked = 0, depth_ok = 0, pixel_ok = 0;
+  for (const vo::FinishedKeyframe& kf : d.keyframes) {
+    const Eigen::Isometry3d T_gt = s.route.T_world_cam[kf.frame];
+    const cv::Mat& image = d.left[kf.frame - d.first];
+    ASSERT_GT(kf.camera_points.size(), 200u);
+    for (const IdPoint& p : vo::world_points(kf)) EXPECT_EQ(p.id, kf.frame);
+    for (const vo::CameraPoint& cp : kf.camera_points) {
+      // Into the keyframe's image with its estimated pose: back at the selected pixel.
+      const Eigen::Vector3d p_world = kf.T_world_cam * cp.p_cam;
+      const Eigen::Vector3d p_cam = kf.T_world_cam.inverse() * p_world;
+      EXPECT_NEAR(s.camera.fx * p_cam.x() / p_cam.z() + s.camera.cx, cp.u, 1e-6);
+      EXPECT_NEAR(s.camera.fy * p_cam.y() / p_cam.z() + s.camera.cy, cp.v, 1e-6);
+      EXPECT_EQ(cp.gray, image.at<std::uint8_t>(static_cast<int>(cp.v), static_cast<int>(cp.u)));
+      // Through the true pose the point's disparity is one the renderer's rays see within the
+      // matching window (window matching puts depth edges on either side of the edge).
+      double lo = 1e9, hi = -1e9;
+      for (int du = -2; du <= 2; ++du) {
+        const Eigen::Vector3d ray = s.camera.ray(cp.u + du, cp.v);
+        const auto hit =
+            s.world.raycast(T_gt.translation(), T_gt.linear() * ray, 200.0, s.conditions);
+        const double disparity = hit ? s.camera.bf / (hit->distance * ray.z()) : 0.0;
+        lo = std::min(lo, disparity);
+        hi = std::max(hi, disparity);
+      }
+      const double disparity = s.camera.bf / cp.p_cam.z();
+      ++checked;
+      if (disparity > lo - 1.0 && disparity < hi + 1.0) ++depth_ok;
+      const Eigen::Vector3d in_gt_camera = T_gt.inverse() * (T0 * p_world);
+      Eigen::Vector2d px;
+      if (s.camera.project(in_gt_camera, px) && (px - Eigen::Vector2d(cp.u, cp.v)).norm() < 2.0)
+        ++pixel_ok;
+    }
+  }
+  std::printf("%d points: %.1f %% within 1 px of a true disparity in the window, %.1f %% reproject within 2 px\n",
+              checked, 100.0 * depth_ok / checked, 100.0 * pixel_ok / checked);
+  EXPECT_GT(depth_ok, 0.95 * checked);
+  EXPECT_GT(pixel_ok, 0.9 * checked);
+}
+
+TEST(StereoVo, BlankFramesForceAnExplicitResetAndTrackingResumes) {
+  const Drive d = drive(0, 36, {18, 19});
+  std::vector<int> resets;
+  for (const vo::FrameResult& f : d.frames)
+    if (f.reset) resets.push_back(f.frame);
+  ASSERT_FALSE(resets.empty());
+  EXPECT_EQ(resets.front(), 18);
+  EXPECT_LE(resets.back(), 21);  // the map is rebuilt on the first textured frame after the gap
+  for (int i = 22; i < 36; ++i) EXPECT_GT(d.frames[i].inliers, 50) << i;
+  // One world frame throughout: the gap is bridged by the motion model (straight, constant speed).
+  EXPECT_LT((d.trajectory.back().translation() - d.gt.back().translation()).norm(), 1.0);
+  bool reset_keyframe = false;
+  for (const vo::FinishedKeyframe& kf : d.keyframes) reset_keyframe = reset_keyframe || kf.reset;
+  EXPECT_TRUE(reset_keyframe);
+}
+
+TEST(StereoVo, RejectsImagesOfTheWrongSize) {
+  vo::StereoVo vo(intrinsics());
+  const cv::Mat small(10, 10, CV_8UC1, cv::Scalar(0));
+  EXPECT_THROW(vo.process(0, small, small), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace loopscan
