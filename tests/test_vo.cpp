@@ -1,8 +1,11 @@
 // Stereo VO: the sparse stereo matcher, corner bucketing and bundle adjustment against known
 // answers, then the whole VO on small rendered sequences of the synthetic city (straight line,
 // a right turn, blank frames forcing a reset) against the renderer's ground truth.
+#include <algorithm>
+#include <climits>
 #include <cmath>
 #include <random>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -42,6 +45,55 @@ TEST(StereoMatch, RecoversAKnownShiftAndRejectsFlatImages) {
   EXPECT_FALSE(std::isfinite(vo::match_disparity(flat, flat, 100, 20, {1, 80, 2, 0.85, false})));
   // Window leaving the image.
   EXPECT_FALSE(std::isfinite(vo::match_disparity(left, left, 1, 20, {1, 80, 2, 0.85, false})));
+}
+
+// The straightforward matcher: every disparity, every window pixel.
+double naive_disparity(const cv::Mat& L, const cv::Mat& R, int x, int y, int d_lo, int d_hi, int h,
+                       double uniqueness) {
+  std::vector<int> cost;
+  std::vector<int> ds;
+  for (int d = std::max(d_lo, 0); d <= d_hi; ++d) {
+    if (x - d - h < 0) break;
+    int s = 0;
+    for (int dy = -h; dy <= h; ++dy)
+      for (int dx = -h; dx <= h; ++dx)
+        s += std::abs(L.at<std::uint8_t>(y + dy, x + dx) - R.at<std::uint8_t>(y + dy, x + dx - d));
+    cost.push_back(s);
+    ds.push_back(d);
+  }
+  const int n = static_cast<int>(cost.size());
+  if (n < 3) return NAN;
+  const int best = static_cast<int>(std::min_element(cost.begin(), cost.end()) - cost.begin());
+  int second = INT_MAX;
+  for (int i = 0; i < n; ++i)
+    if (std::abs(i - best) > 1) second = std::min(second, cost[i]);
+  if (best == 0 || best == n - 1 || second == 0 || cost[best] >= uniqueness * second) return NAN;
+  const double slope = std::max(cost[best - 1], cost[best + 1]) - cost[best];
+  return ds[best] + (slope > 0 ? 0.5 * (cost[best - 1] - cost[best + 1]) / slope : 0.0);
+}
+
+TEST(StereoMatch, EqualsTheStraightforwardSearch) {
+  const cv::Mat left = random_texture(160, 30, 8);
+  cv::Mat right = random_texture(160, 30, 9);
+  left.colRange(20, 160).copyTo(right.colRange(0, 140));  // mostly a 20 px shift, some noise
+  std::mt19937 rng(2);
+  int compared = 0, finite = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int x = 3 + static_cast<int>(rng() % 154), y = 3 + static_cast<int>(rng() % 24);
+    const int h = 1 + static_cast<int>(rng() % 3);
+    const int d_lo = static_cast<int>(rng() % 10), d_hi = d_lo + 3 + static_cast<int>(rng() % 60);
+    if (y - h < 0 || y + h >= 30 || x + h >= 160) continue;
+    const double fast = vo::match_disparity(left, right, x, y, {double(d_lo), double(d_hi), h, 0.9, false});
+    const double slow = naive_disparity(left, right, x, y, d_lo, d_hi, h, 0.9);
+    ++compared;
+    ASSERT_EQ(std::isfinite(fast), std::isfinite(slow)) << x << " " << y << " " << h << " " << d_lo << " " << d_hi;
+    if (std::isfinite(fast)) {
+      ++finite;
+      EXPECT_NEAR(fast, std::clamp(slow, std::floor(slow + 0.5) - 0.5, std::floor(slow + 0.5) + 0.5), 1e-9);
+    }
+  }
+  EXPECT_GT(compared, 300);
+  EXPECT_GT(finite, 50);
 }
 
 TEST(StereoMatch, SubPixelShiftOfASmoothTexture) {

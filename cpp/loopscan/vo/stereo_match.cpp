@@ -28,17 +28,24 @@ double search(const cv::Mat& ref, const cv::Mat& other, int x, int y, int direct
   if (d_hi - d_lo < 2) return kNaN;
   thread_local std::vector<int> costs;
   costs.assign(static_cast<std::size_t>(d_hi - d_lo + 1), 0);
+  const int n = d_hi - d_lo + 1;
+  // The other row's pixels in disparity order, so the inner loop runs over contiguous d and
+  // vectorises: line[i + m] is the pixel window column m sees at disparity d_lo + i (m mirrored
+  // when searching leftwards).
+  thread_local std::vector<std::uint8_t> line;
+  line.resize(static_cast<std::size_t>(n + 2 * h));
   for (int dy = -h; dy <= h; ++dy) {
     const std::uint8_t* r = ref.ptr<std::uint8_t>(y + dy) + x - h;
     const std::uint8_t* o = other.ptr<std::uint8_t>(y + dy) + x - h;
-    for (int d = d_lo; d <= d_hi; ++d) {
-      const std::uint8_t* od = o + direction * d;
-      int s = 0;
-      for (int k = 0; k <= 2 * h; ++k) s += std::abs(static_cast<int>(r[k]) - od[k]);
-      costs[d - d_lo] += s;
+    for (int m = 0; m < n + 2 * h; ++m)
+      line[m] = direction < 0 ? o[2 * h - d_lo - m] : o[d_lo + m];
+    for (int k = 0; k <= 2 * h; ++k) {
+      const int a = r[k];
+      const std::uint8_t* b = line.data() + (direction < 0 ? 2 * h - k : k);
+      int* c = costs.data();
+      for (int i = 0; i < n; ++i) c[i] += std::abs(a - static_cast<int>(b[i]));
     }
   }
-  const int n = d_hi - d_lo + 1;
   int best = 0;
   for (int i = 1; i < n; ++i)
     if (costs[i] < costs[best]) best = i;
