@@ -1,0 +1,34 @@
+#pragma once
+// An inverted index over BoW vectors (word -> images and weights): a query touches only the
+// images sharing a word with it and accumulates DBoW2's L1 score on the way.
+#include <functional>
+#include <vector>
+
+#include "loopscan/baselines/vocabulary.hpp"
+
+namespace loopscan::baselines {
+
+struct BowMatch {
+  int image = -1;
+  double score = 0;  // L1 score, 1 = identical
+};
+
+class InvertedIndex {
+ public:
+  explicit InvertedIndex(std::size_t words = 0) : postings_(words) {}
+  int add(const BowVector& v);  // returns the image id (0, 1, ...)
+  std::size_t size() const { return images_; }
+  // The k best images by score (ties: lower id first) among those `accept` allows (all if empty).
+  std::vector<BowMatch> query(const BowVector& q, int k,
+                              const std::function<bool(int)>& accept = {}) const;
+
+ private:
+  struct Posting {
+    int image;
+    float weight;
+  };
+  std::vector<std::vector<Posting>> postings_;
+  std::size_t images_ = 0;
+};
+
+}  // namespace loopscan::baselines
