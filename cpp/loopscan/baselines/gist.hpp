@@ -49,9 +49,12 @@ class GistExtractor {
 
  private:
   struct Fft;
+  struct RealFft;
   GistConfig config_;
   std::vector<GaborFilter> bank_;
-  std::unique_ptr<Fft> prefilter_fft_, filter_fft_;
+  std::vector<float> prefilter_gauss_;
+  std::unique_ptr<RealFft> prefilter_fft_;
+  std::unique_ptr<Fft> filter_fft_;
 };
 
 }  // namespace loopscan::baselines

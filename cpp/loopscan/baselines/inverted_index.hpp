@@ -23,11 +23,11 @@ class InvertedIndex {
                               const std::function<bool(int)>& accept = {}) const;
 
  private:
-  struct Posting {
-    int image;
-    float weight;
+  struct Postings {  // images containing the word and its weight in each (parallel arrays)
+    std::vector<int> images;
+    std::vector<float> weights;
   };
-  std::vector<std::vector<Posting>> postings_;
+  std::vector<Postings> postings_;
   std::size_t images_ = 0;
 };
 
