@@ -14,5 +14,6 @@ void add_db_command(CLI::App& app);
 void add_render_command(CLI::App& app);
 void add_vo_command(CLI::App& app);
 void add_run_command(CLI::App& app);
+void add_vocab_command(CLI::App& app);
 
 }  // namespace loopscan::cli

@@ -11,6 +11,7 @@
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/io/sodso.hpp"
+#include "image_commands.hpp"
 #include "options.hpp"
 #include "signature_outputs.hpp"
 
@@ -19,11 +20,21 @@ namespace {
 
 struct DescribeArgs {
   std::string method, poses, points, out, mode = "default", reset_ids;
+  ImageDescribeArgs images;  // --method gist | bow
   double range_m = 45.0;
   int threads = 1;
 };
 
 void run_describe(const DescribeArgs& a) {
+  if (is_image_method(a.method)) {
+    ImageDescribeArgs images = a.images;
+    images.method = a.method;
+    images.out = a.out;
+    run_image_describe(images);
+    return;
+  }
+  if (a.poses.empty() || a.points.empty())
+    throw std::invalid_argument("--method " + a.method + " needs --poses and --points");
   const Method method = parse_method(a.method);
   const Mode mode = parse_mode(a.mode);
   if (!(a.range_m > 0)) throw std::invalid_argument("--range must be positive");
@@ -82,9 +93,15 @@ void run_describe(const DescribeArgs& a) {
 void add_describe_command(CLI::App& app) {
   auto args = std::make_shared<DescribeArgs>();
   CLI::App* cmd = app.add_subcommand("describe", "Imitate LiDAR scans and describe every keyframe");
-  cmd->add_option("--method", args->method, "sc | m2dp | delight")->required();
-  cmd->add_option("--poses", args->poses, "SO-DSO poses_history_file.txt")->required();
-  cmd->add_option("--points", args->points, "SO-DSO pts_history_file.txt (or .gz)")->required();
+  cmd->add_option("--method", args->method, "sc | m2dp | delight | gist | bow")->required();
+  cmd->add_option("--poses", args->poses, "SO-DSO poses_history_file.txt (sc, m2dp, delight)");
+  cmd->add_option("--points", args->points, "SO-DSO pts_history_file.txt (or .gz)");
+  cmd->add_option("--kitti", args->images.kitti, "gist, bow: KITTI-layout image sequence");
+  cmd->add_option("--keyframes", args->images.keyframes,
+                  "gist, bow: dir with incoming_id_file.txt (the places to describe)");
+  cmd->add_option("--vocab", args->images.vocab, "bow: vocabulary (ours or ORBvoc.txt)");
+  cmd->add_option("--features", args->images.features, "bow: ORB features per image")
+      ->capture_default_str();
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--mode", args->mode, "reference | default")->capture_default_str();
   cmd->add_option("--range", args->range_m, "imitated LiDAR range in m")->capture_default_str();

@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "evaluation_outputs.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
+#include "image_commands.hpp"
 #include "options.hpp"
 #include "signature_set.hpp"
 
@@ -22,6 +23,11 @@ struct EvaluateArgs {
 };
 
 void run_evaluate(const EvaluateArgs& a) {
+  if (is_image_method(a.method)) {
+    run_image_evaluate({a.method, a.signatures, a.gt, a.gt_format, a.against, a.gt2, a.out,
+                        a.threshold_m, a.mask});
+    return;
+  }
   const Method method = parse_method(a.method);
   const Mode mode = parse_mode(a.mode);
   const Fusion fusion = parse_fusion(a.fusion);
@@ -80,7 +86,7 @@ void run_evaluate(const EvaluateArgs& a) {
 void add_evaluate_command(CLI::App& app) {
   auto args = std::make_shared<EvaluateArgs>();
   CLI::App* cmd = app.add_subcommand("evaluate", "Match places and compute PR, AUC, recall, F1");
-  cmd->add_option("--method", args->method, "sc | m2dp | delight")->required();
+  cmd->add_option("--method", args->method, "sc | m2dp | delight | gist | bow")->required();
   cmd->add_option("--signatures", args->signatures, "describe output dir or signature file")
       ->required();
   cmd->add_option("--ids", args->ids, "incoming_id_file.txt (when --signatures is a file)");

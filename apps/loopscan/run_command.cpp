@@ -1,5 +1,6 @@
-// loopscan run: stereo images -> VO -> imitated scans and descriptors (every method) ->
-// evaluation against ground truth -> one HTML report. What `vo`, `describe` and `evaluate` do,
+// loopscan run: stereo images -> VO -> imitated scans and descriptors (every method, plus the
+// GIST / BoW image baselines on the same keyframes) -> evaluation against ground truth -> one
+// HTML report. What `vo`, `describe` and `evaluate` do,
 // in one process.
 #include <cstdio>
 #include <filesystem>
@@ -8,10 +9,15 @@
 
 #include "commands.hpp"
 #include "evaluation_outputs.hpp"
+#include "image_commands.hpp"
+#include "loopscan/baselines/baseline_matching.hpp"
+#include "loopscan/baselines/describe_images.hpp"
+#include "loopscan/baselines/vocabulary_io.hpp"
 #include "loopscan/core/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
+#include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/plot.hpp"
 #include "loopscan/report/pr_plot.hpp"
@@ -24,17 +30,41 @@ namespace {
 
 struct RunArgs {
   VoArgs vo;
-  std::string out, mode = "default";
-  std::vector<std::string> methods = {"sc", "m2dp", "delight"};
+  std::string out, mode = "default", vocab;
+  std::vector<std::string> methods = {"sc", "m2dp", "delight", "gist"};
   int threads = 2;
 };
 
+// One method's outcome, LiDAR-style (from the VO's points) or image baseline (left images).
 struct MethodRun {
-  Method method;
-  SequenceSignatures signatures;
-  eval::PlaceEvaluation evaluation;
+  std::string name;
+  std::vector<int> keyframe_ids;  // the places
+  eval::PrResult pr;
   bool evaluated = false;
+  double prepare_ms = 0;   // imitate (LiDAR-style) / ORB or GIST extraction (images)
+  double describe_ms = 0;  // describe / BoW transform
+  double query_ms = 0;
 };
+
+MethodRun evaluate_and_write(MethodRun r, const std::string& dir,
+                             const std::vector<eval::QueryMatch>& matches,
+                             const std::vector<Eigen::Vector3d>& gt_rows, Mode mode) {
+  std::vector<Eigen::Vector3d> positions;
+  for (int id : r.keyframe_ids) positions.push_back(gt_rows[static_cast<std::size_t>(id)]);
+  r.pr = eval::evaluate_matches(matches, positions, positions, eval::same_session_protocol(),
+                                mode == Mode::Reference);
+  r.evaluated = true;
+  const nlohmann::json metrics = {{"method", r.name},
+                                  {"mode", mode_name(mode)},
+                                  {"auc", r.pr.auc},
+                                  {"recall_at_100_precision", r.pr.recall_at_100_precision},
+                                  {"f1_max", r.pr.f1_max},
+                                  {"n_queries", r.pr.n_queries},
+                                  {"n_gt_loops", r.pr.n_gt_loops},
+                                  {"query_ms", r.query_ms}};
+  write_evaluation(dir, r.keyframe_ids, r.keyframe_ids, r.pr, metrics, r.name);
+  return r;
+}
 
 std::string fixed(double x, int digits) {
   char buf[64];
@@ -81,47 +111,81 @@ void run_all(const RunArgs& a) {
                 a.vo.kitti.c_str());
   }
 
+  // LiDAR-style methods first: their places (keyframes after the imitation's warm-up) are the
+  // places the image baselines describe, so that all methods share one protocol.
+  std::vector<std::string> order;
+  for (const std::string& name : a.methods)
+    if (!is_image_method(name)) order.push_back(name);
+  for (const std::string& name : a.methods)
+    if (is_image_method(name)) order.push_back(name);
+  std::vector<int> places;
+  for (const KeyframePose& k : vo.run.keyframe_poses) places.push_back(k.id);
+  bool places_from_lidar = false;
   std::vector<MethodRun> runs;
-  for (const std::string& name : a.methods) {
-    MethodRun r{parse_method(name), {}, {}, false};
+  for (const std::string& name : order) {
     std::printf("[2/3] describing with %s\n", name.c_str());
     std::fflush(stdout);
-    SequenceOptions options = SequenceOptions::make(r.method, mode);
-    options.threads = std::max(1, a.threads);
-    r.signatures = describe_sequence(vo.run.keyframe_poses, vo.run.points, options);
-    const std::string dir = a.out + "/" + method_name(r.method);
-    write_signatures(dir, r.signatures, r.method);
-    if (!gt_rows.empty() && !r.signatures.signatures.empty()) {
-      std::vector<Eigen::Vector3d> positions;
-      for (int id : r.signatures.keyframe_ids) positions.push_back(gt_rows[static_cast<std::size_t>(id)]);
-      eval::PlaceEvaluationOptions eo;
-      eo.method = r.method;
-      eo.threads = std::max(1, a.threads);
-      eo.precision = mode == Mode::Reference ? Precision::Double : Precision::Float;
-      eo.reference_quirks = mode == Mode::Reference;
-      r.evaluation = eval::evaluate_places(r.signatures.signatures, r.signatures.signatures,
-                                           positions, positions, eo);
-      r.evaluated = true;
-      const nlohmann::json metrics = {{"method", method_name(r.method)},
-                                      {"mode", mode_name(mode)},
-                                      {"auc", r.evaluation.pr.auc},
-                                      {"recall_at_100_precision", r.evaluation.pr.recall_at_100_precision},
-                                      {"f1_max", r.evaluation.pr.f1_max},
-                                      {"n_queries", r.evaluation.pr.n_queries},
-                                      {"n_gt_loops", r.evaluation.pr.n_gt_loops},
-                                      {"query_ms", r.evaluation.query_ms}};
-      write_evaluation(dir, r.signatures.keyframe_ids, r.signatures.keyframe_ids, r.evaluation.pr,
-                       metrics, method_name(r.method));
+    MethodRun r;
+    r.name = name;
+    const std::string dir = a.out + "/" + name;
+    std::vector<eval::QueryMatch> matches;
+    if (!is_image_method(name)) {
+      const Method method = parse_method(name);
+      SequenceOptions options = SequenceOptions::make(method, mode);
+      options.threads = std::max(1, a.threads);
+      const SequenceSignatures sig = describe_sequence(vo.run.keyframe_poses, vo.run.points, options);
+      write_signatures(dir, sig, method);
+      r.keyframe_ids = sig.keyframe_ids;
+      r.prepare_ms = sig.imitate_ms;
+      r.describe_ms = sig.describe_ms;
+      if (!places_from_lidar && !sig.keyframe_ids.empty()) {
+        places = sig.keyframe_ids;
+        places_from_lidar = true;
+      }
+      if (sig.signatures.empty()) {
+        std::printf("%s: no signatures (too few keyframes for the imitation's warm-up)\n",
+                    name.c_str());
+      } else if (!gt_rows.empty()) {
+        eval::PlaceEvaluationOptions eo;
+        eo.method = method;
+        eo.threads = std::max(1, a.threads);
+        eo.precision = mode == Mode::Reference ? Precision::Double : Precision::Float;
+        eo.reference_quirks = mode == Mode::Reference;
+        std::vector<Eigen::Vector3d> positions;
+        for (int id : sig.keyframe_ids) positions.push_back(gt_rows[static_cast<std::size_t>(id)]);
+        const eval::PlaceEvaluation ev =
+            eval::evaluate_places(sig.signatures, sig.signatures, positions, positions, eo);
+        matches = ev.matches;
+        r.query_ms = ev.query_ms;
+      }
+    } else {
+      if (name == "bow" && a.vocab.empty()) throw std::invalid_argument("--methods bow needs --vocab");
+      const io::KittiSequence sequence = io::open_kitti_sequence(a.vo.kitti);
+      baselines::ImageDescriptors d;
+      if (name == "gist") {
+        d = baselines::describe_gist(sequence, places);
+      } else {
+        d = baselines::describe_bow(sequence, places, baselines::read_vocabulary(a.vocab));
+      }
+      r.keyframe_ids = places;
+      r.prepare_ms = d.extract_ms;
+      r.describe_ms = d.transform_ms;
+      write_image_descriptors(dir, name, d, places);
+      if (!gt_rows.empty() && !places.empty()) {
+        const int mask = eval::same_session_protocol().mask_width;
+        const baselines::BaselineMatches m = name == "gist"
+                                                 ? baselines::best_gist_matches(d.gist, d.gist, mask)
+                                                 : baselines::best_bow_matches(d.bow, d.bow, mask);
+        matches = m.matches;
+        r.query_ms = m.query_ms;
+      }
     }
-    if (r.signatures.signatures.empty()) {
-      std::printf("%s: no signatures (too few keyframes for the imitation's warm-up)\n",
-                  name.c_str());
-    }
+    if (!matches.empty()) r = evaluate_and_write(std::move(r), dir, matches, gt_rows, mode);
     runs.push_back(std::move(r));
   }
 
-  std::printf("[3/3] report\n\n%-8s %8s %8s %8s %9s %10s %10s %10s\n", "method", "AUC", "R@100P",
-              "F1max", "GT loops", "imitate", "describe", "query");
+  std::printf("[3/3] report\n\n%-8s %8s %8s %8s %9s %7s %11s %11s %10s\n", "method", "AUC",
+              "R@100P", "F1max", "GT loops", "places", "prepare ms", "describe ms", "query ms");
   nlohmann::json summary = {{"vo", vo.summary}, {"methods", nlohmann::json::array()}};
   report::HtmlPage page;
   page.title = "loopscan run: " + a.vo.kitti;
@@ -130,6 +194,12 @@ void run_all(const RunArgs& a) {
       std::to_string(vo.run.keyframes.size()) + " keyframes, " +
       std::to_string(vo.run.reset_frames.size()) + " resets) at " + fixed(vo.run.fps, 1) +
       " frames/s; " + fixed(vo.run.mean_points_per_keyframe, 0) + " exported points per keyframe.");
+  page.paragraphs.push_back(
+      "Every method is evaluated on the same places (the LiDAR-style methods' keyframes; the "
+      "image baselines describe the left image of each) under the same-session protocol. "
+      "Prepare = imitating the scan (sc, m2dp, delight) or extracting GIST / ORB (gist, bow); "
+      "describe = the descriptor (sc, m2dp, delight) or the BoW transform; all per keyframe, "
+      "one thread; query = one place against all.");
   if (vo.summary.contains("metrics")) {
     const nlohmann::json& m = vo.summary["metrics"];
     report::Table t{"Odometry accuracy (KITTI protocol)",
@@ -143,34 +213,36 @@ void run_all(const RunArgs& a) {
                       cell(m["path_length_m"], 0)});
     page.tables.push_back(t);
   }
-  report::Table places{"Place recognition (same session: 10 m, |i - j| >= 100)",
-                       {"method", "AUC", "recall@100%P", "F1 max", "GT loops", "imitate ms/kf",
-                        "describe ms/kf", "query ms"},
-                       {}};
+  report::Table places_table{"Accuracy (same session: 10 m, |i - j| >= 100)",
+                             {"method", "AUC", "recall@100%P", "F1 max", "GT loops", "places"},
+                             {}};
+  report::Table times{"Run time per keyframe (ms, one thread)",
+                      {"method", "prepare", "describe", "query"},
+                      {}};
   std::vector<report::Series> curves;
   for (const MethodRun& r : runs) {
-    const eval::PrResult& pr = r.evaluation.pr;
-    std::printf("%-8s %8.4f %8.4f %8.4f %9d %10.3f %10.3f %10.3f\n",
-                method_name(r.method).c_str(), pr.auc, pr.recall_at_100_precision, pr.f1_max,
-                pr.n_gt_loops, r.signatures.imitate_ms, r.signatures.describe_ms,
-                r.evaluation.query_ms);
-    summary["methods"].push_back({{"method", method_name(r.method)},
-                                  {"signatures", r.signatures.signatures.size()},
+    const eval::PrResult& pr = r.pr;
+    std::printf("%-8s %8.4f %8.4f %8.4f %9d %7zu %11.3f %11.3f %10.3f\n", r.name.c_str(), pr.auc,
+                pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops, r.keyframe_ids.size(),
+                r.prepare_ms, r.describe_ms, r.query_ms);
+    summary["methods"].push_back({{"method", r.name},
+                                  {"places", r.keyframe_ids.size()},
                                   {"evaluated", r.evaluated},
                                   {"auc", pr.auc},
                                   {"recall_at_100_precision", pr.recall_at_100_precision},
                                   {"f1_max", pr.f1_max},
                                   {"n_gt_loops", pr.n_gt_loops},
-                                  {"imitate_ms", r.signatures.imitate_ms},
-                                  {"describe_ms", r.signatures.describe_ms},
-                                  {"query_ms", r.evaluation.query_ms}});
-    places.rows.push_back({method_name(r.method), fixed(pr.auc, 4),
-                           fixed(pr.recall_at_100_precision, 4), fixed(pr.f1_max, 4),
-                           std::to_string(pr.n_gt_loops), fixed(r.signatures.imitate_ms, 3),
-                           fixed(r.signatures.describe_ms, 3), fixed(r.evaluation.query_ms, 3)});
-    if (r.evaluated) curves.push_back(report::pr_series(pr.curve, method_name(r.method)));
+                                  {"prepare_ms", r.prepare_ms},
+                                  {"describe_ms", r.describe_ms},
+                                  {"query_ms", r.query_ms}});
+    places_table.rows.push_back({r.name, fixed(pr.auc, 4), fixed(pr.recall_at_100_precision, 4),
+                                 fixed(pr.f1_max, 4), std::to_string(pr.n_gt_loops),
+                                 std::to_string(r.keyframe_ids.size())});
+    times.rows.push_back({r.name, fixed(r.prepare_ms, 3), fixed(r.describe_ms, 3), fixed(r.query_ms, 3)});
+    if (r.evaluated) curves.push_back(report::pr_series(pr.curve, r.name));
   }
-  page.tables.push_back(places);
+  page.tables.push_back(places_table);
+  page.tables.push_back(times);
   page.figures.push_back(trajectory_figure(vo, gt_by_frame));
   if (!curves.empty())
     page.figures.push_back({"Precision-recall", report::pr_curve_svg(curves, "Precision-recall")});
@@ -187,7 +259,9 @@ void add_run_command(CLI::App& app) {
       "run", "Stereo images -> VO -> describe -> evaluate -> report, in one go");
   add_vo_options(*cmd, a->vo);
   cmd->get_option("--out")->description("output directory (vo/, <method>/, report.html)");
-  cmd->add_option("--methods", a->methods, "descriptors to run")->capture_default_str();
+  cmd->add_option("--methods", a->methods, "sc m2dp delight gist bow (bow needs --vocab)")
+      ->capture_default_str();
+  cmd->add_option("--vocab", a->vocab, "bow: vocabulary (ours or ORBvoc.txt)");
   cmd->add_option("--mode", a->mode, "reference | default")->capture_default_str();
   cmd->add_option("--threads", a->threads, "threads describing and matching")
       ->capture_default_str();

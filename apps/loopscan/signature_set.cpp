@@ -49,17 +49,23 @@ SignatureSet load_signature_set(const std::string& path, Method method,
   return set;
 }
 
-void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format) {
+std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
+                                          const std::string& gt_path, const std::string& format) {
   const std::vector<Eigen::Vector3d> all = io::read_positions(gt_path, io::parse_gt_format(format));
-  set.positions.clear();
-  for (int id : set.keyframe_ids) {
+  std::vector<Eigen::Vector3d> out;
+  for (int id : keyframe_ids) {
     if (id < 0 || static_cast<std::size_t>(id) >= all.size()) {
       throw io::InputError(gt_path, 0,
                            "a line for keyframe id " + std::to_string(id) + " (file has " +
                                std::to_string(all.size()) + " lines)");
     }
-    set.positions.push_back(all[id]);
+    out.push_back(all[id]);
   }
+  return out;
+}
+
+void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format) {
+  set.positions = positions_of(set.keyframe_ids, gt_path, format);
 }
 
 }  // namespace loopscan::cli

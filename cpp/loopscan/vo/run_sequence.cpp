@@ -4,9 +4,8 @@
 #include <chrono>
 #include <future>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "loopscan/io/errors.hpp"
+#include "loopscan/vo/image_file.hpp"
 
 namespace loopscan::vo {
 namespace {
@@ -18,15 +17,9 @@ struct StereoPair {
   double load_ms = 0;
 };
 
-cv::Mat read_gray(const std::string& path) {
-  cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (image.empty()) throw io::InputError(path, 0, "cannot decode the image (expected PNG/JPEG)");
-  return image;
-}
-
 StereoPair load_pair(const io::KittiSequence& s, int frame, bool blank) {
   const auto t0 = Clock::now();
-  StereoPair p{read_gray(s.left(frame)), read_gray(s.right(frame))};
+  StereoPair p{read_gray_image(s.left(frame)), read_gray_image(s.right(frame))};
   if (p.left.size() != p.right.size())
     throw io::InputError(s.right(frame), 0, "right image size differs from the left image's");
   if (blank) {
@@ -41,7 +34,7 @@ StereoPair load_pair(const io::KittiSequence& s, int frame, bool blank) {
 
 StereoIntrinsics intrinsics_of(const io::KittiSequence& sequence) {
   if (sequence.frames() == 0) throw io::InputError(sequence.dir, 0, "sequence has no frames");
-  const cv::Mat first = read_gray(sequence.left(0));
+  const cv::Mat first = read_gray_image(sequence.left(0));
   StereoIntrinsics c;
   c.fx = sequence.calib.fx;
   c.fy = sequence.calib.fy;

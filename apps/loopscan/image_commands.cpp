@@ -1,0 +1,141 @@
+#include "image_commands.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "evaluation_outputs.hpp"
+#include "loopscan/baselines/baseline_matching.hpp"
+#include "loopscan/baselines/describe_images.hpp"
+#include "loopscan/baselines/vocabulary_io.hpp"
+#include "loopscan/eval/precision_recall.hpp"
+#include "loopscan/io/atomic_file.hpp"
+#include "loopscan/io/bow_file.hpp"
+#include "loopscan/io/errors.hpp"
+#include "loopscan/io/incoming_ids.hpp"
+#include "loopscan/io/matrix_text.hpp"
+#include "signature_set.hpp"
+
+namespace loopscan::cli {
+namespace {
+
+struct ImageSet {
+  std::vector<Eigen::VectorXf> gist;
+  std::vector<baselines::BowVector> bow;
+  std::vector<int> ids;
+  std::vector<Eigen::Vector3d> positions;
+  std::size_t size() const { return ids.size(); }
+};
+
+ImageSet load_image_set(const std::string& dir, const std::string& method) {
+  ImageSet s;
+  s.ids = io::read_incoming_ids(dir + "/incoming_id_file.txt");
+  std::size_t n = 0;
+  std::string file;
+  if (method == "gist") {
+    file = dir + "/signatures.txt";
+    const Eigen::MatrixXd m = io::read_matrix_text(file);
+    for (Eigen::Index r = 0; r < m.rows(); ++r) s.gist.push_back(m.row(r).transpose().cast<float>());
+    n = s.gist.size();
+  } else {
+    file = dir + "/bow.txt";
+    s.bow = io::read_bow_vectors(file);
+    n = s.bow.size();
+  }
+  if (n != s.ids.size()) {
+    throw io::InputError(file, 0,
+                         "one place per keyframe id of incoming_id_file.txt (" +
+                             std::to_string(s.ids.size()) + " ids, " + std::to_string(n) +
+                             " places)");
+  }
+  return s;
+}
+
+}  // namespace
+
+bool is_image_method(const std::string& method) { return method == "gist" || method == "bow"; }
+
+void write_image_descriptors(const std::string& dir, const std::string& method,
+                             const baselines::ImageDescriptors& d, const std::vector<int>& ids) {
+  std::filesystem::create_directories(dir);
+  if (method == "gist") {
+    Eigen::MatrixXd m(static_cast<Eigen::Index>(d.gist.size()), d.gist.empty() ? 512 : d.gist[0].size());
+    for (std::size_t i = 0; i < d.gist.size(); ++i)
+      m.row(static_cast<Eigen::Index>(i)) = d.gist[i].cast<double>().transpose();
+    io::write_matrix_text(dir + "/signatures.txt", m);
+  } else {
+    io::write_bow_vectors(dir + "/bow.txt", d.bow);
+  }
+  io::write_incoming_ids(dir + "/incoming_id_file.txt", ids);
+}
+
+void run_image_describe(const ImageDescribeArgs& a) {
+  if (a.kitti.empty() || a.keyframes.empty())
+    throw std::invalid_argument("--method " + a.method + " needs --kitti and --keyframes");
+  if (a.method == "bow" && a.vocab.empty()) throw std::invalid_argument("--method bow needs --vocab");
+  const io::KittiSequence sequence = io::open_kitti_sequence(a.kitti);
+  const std::vector<int> ids = io::read_incoming_ids(a.keyframes + "/incoming_id_file.txt");
+  baselines::ImageDescriptors d;
+  if (a.method == "gist") {
+    d = baselines::describe_gist(sequence, ids);
+  } else {
+    const baselines::Vocabulary vocabulary = baselines::read_vocabulary(a.vocab);
+    baselines::OrbConfig orb;
+    orb.features = a.features;
+    d = baselines::describe_bow(sequence, ids, vocabulary, orb);
+  }
+  write_image_descriptors(a.out, a.method, d, ids);
+  const nlohmann::json timing = {{"method", a.method},
+                                 {"sequence", a.kitti},
+                                 {"n_keyframes", ids.size()},
+                                 {"read_ms", d.read_ms},
+                                 {"extract_ms", d.extract_ms},
+                                 {"transform_ms", d.transform_ms},
+                                 {"describe_ms", d.extract_ms + d.transform_ms},
+                                 {"mean_features", d.mean_features},
+                                 {"vocabulary", a.vocab}};
+  io::write_file_atomic(a.out + "/timing.json", timing.dump(1) + "\n");
+  std::printf("%s: %zu keyframes; %.2f ms extract + %.2f ms transform per image -> %s\n",
+              a.method.c_str(), ids.size(), d.extract_ms, d.transform_ms, a.out.c_str());
+}
+
+void run_image_evaluate(const ImageEvaluateArgs& a) {
+  ImageSet queries = load_image_set(a.signatures, a.method);
+  queries.positions = positions_of(queries.ids, a.gt, a.gt_format);
+  const bool cross = !a.against.empty();
+  ImageSet db = queries;
+  if (cross) {
+    if (a.gt2.empty()) throw std::invalid_argument("--against needs --gt2");
+    db = load_image_set(a.against, a.method);
+    db.positions = positions_of(db.ids, a.gt2, a.gt_format);
+  }
+  if (queries.size() == 0 || db.size() == 0)
+    throw std::invalid_argument("nothing to evaluate: no places in " + (queries.size() == 0 ? a.signatures : a.against));
+  eval::Protocol protocol = cross ? eval::cross_session_protocol() : eval::same_session_protocol();
+  if (a.threshold_m > 0) protocol.threshold_m = a.threshold_m;
+  if (a.mask >= 0) protocol.mask_width = a.mask;
+  const baselines::BaselineMatches m =
+      a.method == "gist" ? baselines::best_gist_matches(queries.gist, db.gist, protocol.mask_width)
+                         : baselines::best_bow_matches(queries.bow, db.bow, protocol.mask_width);
+  const eval::PrResult pr = eval::evaluate_matches(m.matches, queries.positions, db.positions, protocol);
+  const nlohmann::json metrics = {
+      {"method", a.method},
+      {"protocol",
+       {{"threshold_m", protocol.threshold_m},
+        {"mask_width", protocol.mask_width},
+        {"cross_session", cross}}},
+      {"auc", pr.auc},
+      {"recall_at_100_precision", pr.recall_at_100_precision},
+      {"f1_max", pr.f1_max},
+      {"n_queries", pr.n_queries},
+      {"n_database", db.size()},
+      {"n_gt_loops", pr.n_gt_loops},
+      {"query_ms", m.query_ms}};
+  write_evaluation(a.out, queries.ids, db.ids, pr, metrics, a.method);
+  std::printf("%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, %.3f ms per query -> %s\n",
+              a.method.c_str(), pr.auc, pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops,
+              pr.n_queries, m.query_ms, a.out.c_str());
+}
+
+}  // namespace loopscan::cli
