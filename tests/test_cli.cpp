@@ -54,6 +54,13 @@ void write_sequence(const fs::path& dir, int keyframes) {
   write(dir / "pts.txt", pts.str());
 }
 
+std::vector<std::string> read_lines(const fs::path& p) {
+  std::vector<std::string> lines;
+  std::ifstream in(p);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
 bool has_temp_files(const fs::path& dir) {
   for (const auto& e : fs::recursive_directory_iterator(dir)) {
     if (e.path().filename().string().find(".tmp") != std::string::npos) return true;
@@ -431,6 +438,54 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   EXPECT_EQ(short_gt.code, 2);
   EXPECT_NE(short_gt.output.find("poses.txt:2"), std::string::npos) << short_gt.output;
   EXPECT_FALSE(fs::exists(d / "z"));
+}
+
+
+TEST(Cli, ImageBaselinesDescribeAndEvaluateTheSameKeyframes) {
+  const fs::path d = temp_dir("images");
+  const std::string seq = (d / "seq").string();
+  ASSERT_EQ(run("render --trajectory builtin:short --scale 0.5 --frames 12 --out " + seq).code, 0);
+  // Keyframes to describe: every other frame, as a describe output lists them.
+  fs::create_directories(d / "kf");
+  write(d / "kf/incoming_id_file.txt", "0\n2\n4\n6\n8\n10\n");
+  const CliResult voc = run("vocab train --kitti " + seq + " --step 3 --k 4 --depth 3 --features 500 --out " +
+                            (d / "voc.bin").string());
+  ASSERT_EQ(voc.code, 0) << voc.output;
+  ASSERT_EQ(run("vocab train --kitti " + seq + " --step 3 --k 4 --depth 3 --features 500 --text --out " +
+                (d / "voc.txt").string()).code, 0);
+  for (const std::string& m : {std::string("gist"), std::string("bow")}) {
+    const std::string vocab = m == "bow" ? " --vocab " + (d / "voc.txt").string() : "";
+    const CliResult desc = run("describe --method " + m + " --kitti " + seq + " --keyframes " +
+                               (d / "kf").string() + vocab + " --out " + (d / m).string());
+    ASSERT_EQ(desc.code, 0) << desc.output;
+    EXPECT_EQ(read_lines(d / m / "incoming_id_file.txt").size(), 6u);
+    const CliResult ev = run("evaluate --method " + m + " --signatures " + (d / m).string() +
+                             " --gt " + seq + "/poses.txt --mask 3 --threshold 3 --out " +
+                             (d / m / "eval").string());
+    ASSERT_EQ(ev.code, 0) << ev.output;
+    std::ifstream in(d / m / "eval/metrics.json");
+    const nlohmann::json j = nlohmann::json::parse(in);
+    EXPECT_EQ(j["n_queries"].get<int>(), 6);
+    EXPECT_EQ(j["method"].get<std::string>(), m);
+  }
+  EXPECT_EQ(read_lines(d / "gist/signatures.txt").size(), 6u);
+  EXPECT_EQ(read_lines(d / "bow/bow.txt").size(), 6u);
+  // Bad input: no vocabulary, a keyframe beyond the sequence, a damaged bow.txt.
+  EXPECT_EQ(run("describe --method bow --kitti " + seq + " --keyframes " + (d / "kf").string() +
+                " --out " + (d / "x").string()).code, 2);
+  fs::create_directories(d / "kf2");
+  write(d / "kf2/incoming_id_file.txt", "0\n99\n");
+  const CliResult beyond = run("describe --method gist --kitti " + seq + " --keyframes " +
+                               (d / "kf2").string() + " --out " + (d / "y").string());
+  EXPECT_EQ(beyond.code, 2);
+  EXPECT_NE(beyond.output.find("99"), std::string::npos) << beyond.output;
+  EXPECT_FALSE(fs::exists(d / "y"));
+  write(d / "bow/bow.txt", "1 0.5 3 0.5\n4 0.25 2 0.75\n");
+  const CliResult bad = run("evaluate --method bow --signatures " + (d / "bow").string() + " --gt " +
+                            seq + "/poses.txt --out " + (d / "z").string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("bow.txt:2"), std::string::npos) << bad.output;
+  EXPECT_FALSE(has_temp_files(d));
 }
 
 }  // namespace
