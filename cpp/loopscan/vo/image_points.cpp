@@ -64,21 +64,49 @@ std::vector<CameraPoint> select_gradient_points(const cv::Mat& left, const cv::M
     float gradient;
   };
   std::vector<Candidate> found;
-  const float min_g2 = static_cast<float>(config.point_min_gradient * config.point_min_gradient);
+  // Gradient magnitude (central differences) and, as DSO does, a threshold per region: the
+  // region's median gradient plus a margin, so that weak uniform texture (asphalt) yields few
+  // points and every textured part of the image some.
+  const int w = left.cols, h = left.rows;
+  std::vector<float> magnitude(static_cast<std::size_t>(w) * h, 0.0f);
+  for (int y = 1; y + 1 < h; ++y) {
+    const std::uint8_t* up = left.ptr<std::uint8_t>(y - 1);
+    const std::uint8_t* row = left.ptr<std::uint8_t>(y);
+    const std::uint8_t* down = left.ptr<std::uint8_t>(y + 1);
+    float* m = magnitude.data() + static_cast<std::size_t>(y) * w;
+    for (int x = 1; x + 1 < w; ++x) {
+      const float gx = 0.5f * (static_cast<float>(row[x + 1]) - row[x - 1]);
+      const float gy = 0.5f * (static_cast<float>(down[x]) - up[x]);
+      m[x] = std::sqrt(gx * gx + gy * gy);
+    }
+  }
+  const int region = std::max(8, static_cast<int>(std::lround(32 * pixel_scale(camera))));
+  const int rx = (w + region - 1) / region, ry = (h + region - 1) / region;
+  std::vector<float> threshold(static_cast<std::size_t>(rx) * ry);
+  for (int j = 0; j < ry; ++j) {
+    for (int i = 0; i < rx; ++i) {
+      int histogram[256] = {};
+      int n = 0;
+      for (int y = j * region; y < std::min(h, (j + 1) * region); ++y)
+        for (int x = i * region; x < std::min(w, (i + 1) * region); ++x, ++n)
+          ++histogram[std::min(255, static_cast<int>(magnitude[static_cast<std::size_t>(y) * w + x]))];
+      int median = 0;
+      for (int count = 0; median < 255 && (count += histogram[median]) < (n + 1) / 2;) ++median;
+      threshold[static_cast<std::size_t>(j) * rx + i] = static_cast<float>(
+          std::max(config.point_min_gradient, median + config.point_gradient_over_median));
+    }
+  }
   for (int by = margin; by + block <= left.rows - margin; by += block) {
     for (int bx = margin; bx + block <= left.cols - margin; bx += block) {
-      float best_g2 = min_g2;
+      const int cx = std::min(rx - 1, (bx + block / 2) / region);
+      const int cy = std::min(ry - 1, (by + block / 2) / region);
+      float best_g = threshold[static_cast<std::size_t>(cy) * rx + cx];
       int best_x = -1, best_y = -1;
       for (int y = by; y < by + block; ++y) {
-        const std::uint8_t* up = left.ptr<std::uint8_t>(y - 1);
-        const std::uint8_t* row = left.ptr<std::uint8_t>(y);
-        const std::uint8_t* down = left.ptr<std::uint8_t>(y + 1);
+        const float* m = magnitude.data() + static_cast<std::size_t>(y) * w;
         for (int x = bx; x < bx + block; ++x) {
-          const float gx = 0.5f * (static_cast<float>(row[x + 1]) - row[x - 1]);
-          const float gy = 0.5f * (static_cast<float>(down[x]) - up[x]);
-          const float g2 = gx * gx + gy * gy;
-          if (g2 > best_g2) {
-            best_g2 = g2;
+          if (m[x] > best_g) {
+            best_g = m[x];
             best_x = x;
             best_y = y;
           }
@@ -93,7 +121,7 @@ std::vector<CameraPoint> select_gradient_points(const cv::Mat& left, const cv::M
       p.gray = left.at<std::uint8_t>(best_y, best_x);
       p.u = static_cast<float>(best_x);
       p.v = static_cast<float>(best_y);
-      found.push_back({p, best_g2});
+      found.push_back({p, best_g});
     }
   }
   if (static_cast<int>(found.size()) > target) {

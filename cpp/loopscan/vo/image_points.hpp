@@ -27,7 +27,7 @@ struct CameraPoint {
 };
 
 // Per block (sized for ~2 x points_per_keyframe blocks) the pixel of largest gradient, if above
-// point_min_gradient and stereo-matched (left-right checked) within [min_depth_m,
+// its region's threshold (VoConfig) and stereo-matched (left-right checked) within [min_depth_m,
 // point_max_depth_m]; the points_per_keyframe strongest are kept.
 std::vector<CameraPoint> select_gradient_points(const cv::Mat& left, const cv::Mat& right,
                                                 const StereoIntrinsics& camera,

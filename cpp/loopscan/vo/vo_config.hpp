@@ -33,9 +33,11 @@ struct VoConfig {
   int window_keyframes = 7, fixed_keyframes = 2;
   int ba_iterations = 6;
   double ba_huber_px = 1.5;
-  // Exported DSO-like points: the highest-gradient pixel of each block with a stereo depth.
+  // Exported DSO-like points: the highest-gradient pixel of each block with a stereo depth, if
+  // above max(point_min_gradient, median gradient of its 32x32 region + margin) as in DSO.
   int points_per_keyframe = 1000;
   double point_min_gradient = 8.0;  // gray levels per pixel (central differences / 2)
+  double point_gradient_over_median = 7.0;  // DSO's setting_minGradHistAdd
   double point_max_depth_m = 45.0;
 };
 
