@@ -191,8 +191,8 @@ Eigen::VectorXf GistExtractor::describe(const cv::Mat& input) {
   Eigen::VectorXf out(this->size());
   std::vector<double> cell(static_cast<std::size_t>(g) * g);
   std::vector<int> cell_pixels(cell.size(), 0);
-  std::vector<int> column_cell(static_cast<std::size_t>(size));
-  for (int x = 0; x < size; ++x) column_cell[x] = x * g / size;
+  std::vector<int> column_start(static_cast<std::size_t>(g) + 1, size);
+  for (int x = size - 1; x >= 0; --x) column_start[x * g / size] = x;
   std::vector<float> magnitude(static_cast<std::size_t>(size));
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) ++cell_pixels[static_cast<std::size_t>(y * g / size) * g + x * g / size];
@@ -210,7 +210,12 @@ Eigen::VectorXf GistExtractor::describe(const cv::Mat& input) {
       for (int x = 0; x < size; ++x) magnitude[x] = row[x][0] * row[x][0] + row[x][1] * row[x][1];
       for (int x = 0; x < size; ++x) magnitude[x] = std::sqrt(magnitude[x]);
       double* cells = cell.data() + static_cast<std::size_t>(y * g / size) * g;
-      for (int x = 0; x < size; ++x) cells[column_cell[x]] += magnitude[x];
+      // Each cell is a run of columns: one (vectorisable) sum per run.
+      for (int c = 0; c < g; ++c) {
+        float sum = 0.f;
+        for (int x = column_start[c]; x < column_start[c + 1]; ++x) sum += magnitude[x];
+        cells[c] += sum;
+      }
     }
     for (double& e : cell) e *= inv_n2;
     for (int c = 0; c < g * g; ++c)
