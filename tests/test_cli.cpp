@@ -422,7 +422,7 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   ASSERT_EQ(summary["methods"].size(), 2u);
   for (const nlohmann::json& m : summary["methods"]) {
     // 30 m are too short for the imitation's warm-up plus the 100-keyframe mask: nothing to score.
-    EXPECT_EQ(m["evaluated"].get<bool>(), m["signatures"].get<int>() > 0);
+    EXPECT_EQ(m["evaluated"].get<bool>(), m["places"].get<int>() > 0);
     EXPECT_EQ(fs::exists(d / "run" / m["method"].get<std::string>() / "metrics.json"),
               m["evaluated"].get<bool>());
   }
