@@ -154,14 +154,22 @@ TEST(Bow, L1ScoreAndInvertedIndexMatchBruteForce) {
   EXPECT_EQ(baselines::l1_score({{1, 1.0f}}, {{2, 1.0f}}), 0.0);
 }
 
-TEST(Bow, TrainedTreeIsAKMajorityHierarchyWithIdfWeights) {
-  std::mt19937 rng(5);
+// A vocabulary trained on `n_images` images of random descriptors.
+baselines::Vocabulary random_vocabulary(unsigned seed, int n_images, int per_image, int k, int L,
+                                        std::vector<cv::Mat>* training = nullptr) {
+  std::mt19937 rng(seed);
   std::vector<cv::Mat> images;
-  for (int i = 0; i < 12; ++i) images.push_back(random_descriptors(150, rng));
+  for (int i = 0; i < n_images; ++i) images.push_back(random_descriptors(per_image, rng));
   baselines::VocabularyConfig config;
-  config.branching = 4;
-  config.depth = 3;
-  const baselines::Vocabulary v = baselines::train_vocabulary(images, config);
+  config.branching = k;
+  config.depth = L;
+  if (training) *training = images;
+  return baselines::train_vocabulary(images, config);
+}
+
+TEST(Bow, TrainedTreeIsAKMajorityHierarchyWithIdfWeights) {
+  std::vector<cv::Mat> images;
+  const baselines::Vocabulary v = random_vocabulary(5, 12, 150, 4, 3, &images);
   const auto& nodes = v.nodes();
   std::size_t leaves = 0;
   for (std::size_t i = 0; i < nodes.size(); ++i) {
@@ -309,13 +317,8 @@ TEST(VocabularyFile, MalformedOrbVocTextNamesTheLine) {
 
 TEST(VocabularyFile, DamagedBinaryFilesAreRejected) {
   std::mt19937 rng(7);
-  std::vector<cv::Mat> images;
-  for (int i = 0; i < 4; ++i) images.push_back(random_descriptors(60, rng));
-  baselines::VocabularyConfig vc;
-  vc.branching = 3;
-  vc.depth = 2;
   const fs::path p = temp_file("v.bin");
-  io::save_vocabulary(p.string(), baselines::to_records(baselines::train_vocabulary(images, vc)));
+  io::save_vocabulary(p.string(), baselines::to_records(random_vocabulary(7, 4, 60, 3, 2)));
   std::ifstream in(p, std::ios::binary);
   const std::string good((std::istreambuf_iterator<char>(in)), {});
   int rejected = 0, trials = 0;

@@ -138,19 +138,15 @@ void run_query(const QueryArgs& a) {
   }
   eval::Protocol protocol{a.threshold_m, a.mask};
   const eval::PrResult pr = eval::evaluate_matches(matches, queries.positions, db_pos, protocol);
-  const nlohmann::json metrics = {
+  nlohmann::json metrics = {
       {"method", method_name(db.config().method)},
       {"fusion", fusion_name(db.config().fusion)},
       {"retrieval", a.exact ? "exact" : "indexed"},
       {"candidates", a.candidates},
       {"protocol", {{"threshold_m", protocol.threshold_m}, {"mask_width", protocol.mask_width}}},
-      {"auc", pr.auc},
-      {"recall_at_100_precision", pr.recall_at_100_precision},
-      {"f1_max", pr.f1_max},
-      {"n_queries", pr.n_queries},
       {"n_database", db.size()},
-      {"n_gt_loops", pr.n_gt_loops},
       {"query_ms", query_ms}};
+  metrics.update(pr_metrics(pr));
   const std::string title =
       method_name(db.config().method) + " database (" + (a.exact ? "exact" : "indexed") + ")";
   write_evaluation(a.out, queries.keyframe_ids, db_ids, pr, metrics, title);

@@ -57,7 +57,7 @@ void run_evaluate(const EvaluateArgs& a) {
   const eval::PlaceEvaluation ev =
       eval::evaluate_places(queries.places, db.places, queries.positions, db.positions, options);
 
-  const nlohmann::json metrics = {
+  nlohmann::json metrics = {
       {"method", method_name(method)},
       {"fusion", method == Method::Delight ? "intensity-only" : fusion_name(fusion)},
       {"mode", mode_name(mode)},
@@ -65,13 +65,9 @@ void run_evaluate(const EvaluateArgs& a) {
        {{"threshold_m", options.protocol.threshold_m},
         {"mask_width", options.protocol.mask_width},
         {"cross_session", cross}}},
-      {"auc", ev.pr.auc},
-      {"recall_at_100_precision", ev.pr.recall_at_100_precision},
-      {"f1_max", ev.pr.f1_max},
-      {"n_queries", ev.pr.n_queries},
       {"n_database", db.places.size()},
-      {"n_gt_loops", ev.pr.n_gt_loops},
       {"query_ms", ev.query_ms}};
+  metrics.update(pr_metrics(ev.pr));
   const std::string title = method_name(method) + " (" + metrics["fusion"].get<std::string>() + ")";
   write_evaluation(a.out, queries.keyframe_ids, db.keyframe_ids, ev.pr, metrics, title);
   std::printf(

@@ -8,6 +8,14 @@
 
 namespace loopscan::cli {
 
+nlohmann::json pr_metrics(const eval::PrResult& pr) {
+  return {{"auc", pr.auc},
+          {"recall_at_100_precision", pr.recall_at_100_precision},
+          {"f1_max", pr.f1_max},
+          {"n_queries", pr.n_queries},
+          {"n_gt_loops", pr.n_gt_loops}};
+}
+
 void write_evaluation(const std::string& dir, const std::vector<int>& query_ids,
                       const std::vector<int>& db_ids, const eval::PrResult& pr,
                       const nlohmann::json& metrics, const std::string& title) {

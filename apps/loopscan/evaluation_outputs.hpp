@@ -10,6 +10,9 @@
 
 namespace loopscan::cli {
 
+// auc, recall_at_100_precision, f1_max, n_queries, n_gt_loops of a PR result.
+nlohmann::json pr_metrics(const eval::PrResult& pr);
+
 // query_ids / db_ids: keyframe ids behind the match indices of `pr`.
 void write_evaluation(const std::string& dir, const std::vector<int>& query_ids,
                       const std::vector<int>& db_ids, const eval::PrResult& pr,

@@ -119,19 +119,14 @@ void run_image_evaluate(const ImageEvaluateArgs& a) {
       a.method == "gist" ? baselines::best_gist_matches(queries.gist, db.gist, protocol.mask_width)
                          : baselines::best_bow_matches(queries.bow, db.bow, protocol.mask_width);
   const eval::PrResult pr = eval::evaluate_matches(m.matches, queries.positions, db.positions, protocol);
-  const nlohmann::json metrics = {
-      {"method", a.method},
-      {"protocol",
-       {{"threshold_m", protocol.threshold_m},
-        {"mask_width", protocol.mask_width},
-        {"cross_session", cross}}},
-      {"auc", pr.auc},
-      {"recall_at_100_precision", pr.recall_at_100_precision},
-      {"f1_max", pr.f1_max},
-      {"n_queries", pr.n_queries},
-      {"n_database", db.size()},
-      {"n_gt_loops", pr.n_gt_loops},
-      {"query_ms", m.query_ms}};
+  nlohmann::json metrics = {{"method", a.method},
+                            {"protocol",
+                             {{"threshold_m", protocol.threshold_m},
+                              {"mask_width", protocol.mask_width},
+                              {"cross_session", cross}}},
+                            {"n_database", db.size()},
+                            {"query_ms", m.query_ms}};
+  metrics.update(pr_metrics(pr));
   write_evaluation(a.out, queries.ids, db.ids, pr, metrics, a.method);
   std::printf("%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, %.3f ms per query -> %s\n",
               a.method.c_str(), pr.auc, pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops,

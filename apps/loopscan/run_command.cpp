@@ -54,14 +54,8 @@ MethodRun evaluate_and_write(MethodRun r, const std::string& dir,
   r.pr = eval::evaluate_matches(matches, positions, positions, eval::same_session_protocol(),
                                 mode == Mode::Reference);
   r.evaluated = true;
-  const nlohmann::json metrics = {{"method", r.name},
-                                  {"mode", mode_name(mode)},
-                                  {"auc", r.pr.auc},
-                                  {"recall_at_100_precision", r.pr.recall_at_100_precision},
-                                  {"f1_max", r.pr.f1_max},
-                                  {"n_queries", r.pr.n_queries},
-                                  {"n_gt_loops", r.pr.n_gt_loops},
-                                  {"query_ms", r.query_ms}};
+  nlohmann::json metrics = {{"method", r.name}, {"mode", mode_name(mode)}, {"query_ms", r.query_ms}};
+  metrics.update(pr_metrics(r.pr));
   write_evaluation(dir, r.keyframe_ids, r.keyframe_ids, r.pr, metrics, r.name);
   return r;
 }
