@@ -469,6 +469,10 @@ TEST(Cli, ImageBaselinesDescribeAndEvaluateTheSameKeyframes) {
     EXPECT_EQ(j["method"].get<std::string>(), m);
   }
   EXPECT_EQ(read_lines(d / "gist/signatures.txt").size(), 6u);
+  // GIST on two threads: the same descriptors.
+  ASSERT_EQ(run("describe --method gist --threads 2 --kitti " + seq + " --keyframes " +
+                (d / "kf").string() + " --out " + (d / "gist2").string()).code, 0);
+  EXPECT_EQ(read_lines(d / "gist2/signatures.txt"), read_lines(d / "gist/signatures.txt"));
   EXPECT_EQ(read_lines(d / "bow/bow.txt").size(), 6u);
   // Bad input: no vocabulary, a keyframe beyond the sequence, a damaged bow.txt.
   EXPECT_EQ(run("describe --method bow --kitti " + seq + " --keyframes " + (d / "kf").string() +

@@ -30,6 +30,7 @@ void run_describe(const DescribeArgs& a) {
     ImageDescribeArgs images = a.images;
     images.method = a.method;
     images.out = a.out;
+    images.threads = std::max(1, a.threads);
     run_image_describe(images);
     return;
   }

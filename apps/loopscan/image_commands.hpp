@@ -17,6 +17,7 @@ void write_image_descriptors(const std::string& dir, const std::string& method,
 struct ImageDescribeArgs {
   std::string method, kitti, keyframes, vocab, out;
   int features = 4000;
+  int threads = 1;  // GIST
 };
 // Describes the left image of every keyframe in <keyframes>/incoming_id_file.txt; writes
 // signatures.txt (GIST, one row of 512 a place) or bow.txt (BoW), incoming_id_file.txt and

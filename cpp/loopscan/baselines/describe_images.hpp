@@ -16,14 +16,15 @@ struct ImageDescriptors {
   std::vector<Eigen::VectorXf> gist;
   std::vector<BowVector> bow;
   double read_ms = 0;       // per image: decoding the PNG
-  double extract_ms = 0;    // per image: GIST, or ORB extraction
+  double extract_ms = 0;    // per image and thread: GIST, or ORB extraction
   double transform_ms = 0;  // per image: BoW vector from the ORB descriptors
   double mean_features = 0;
 };
 
-// Frames outside the sequence -> std::invalid_argument naming the frame.
+// Frames outside the sequence -> std::invalid_argument naming the frame. GIST runs on `threads`
+// threads (identical descriptors).
 ImageDescriptors describe_gist(const io::KittiSequence& sequence, const std::vector<int>& frames,
-                               const GistConfig& config = {});
+                               const GistConfig& config = {}, int threads = 1);
 ImageDescriptors describe_bow(const io::KittiSequence& sequence, const std::vector<int>& frames,
                               const Vocabulary& vocabulary, const OrbConfig& config = {});
 
