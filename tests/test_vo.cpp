@@ -340,10 +340,13 @@ TEST(StereoVo, BlankFramesForceAnExplicitResetAndTrackingResumes) {
   EXPECT_TRUE(reset_keyframe);
 }
 
-TEST(StereoVo, RejectsImagesOfTheWrongSize) {
+TEST(StereoVo, RejectsImagesOfTheWrongSizeAndFramesAfterFinish) {
   vo::StereoVo vo(intrinsics());
   const cv::Mat small(10, 10, CV_8UC1, cv::Scalar(0));
   EXPECT_THROW(vo.process(0, small, small), std::invalid_argument);
+  vo.finish();
+  const cv::Mat black(intrinsics().height, intrinsics().width, CV_8UC1, cv::Scalar(0));
+  EXPECT_THROW(vo.process(1, black, black), std::logic_error);
 }
 
 }  // namespace

@@ -59,6 +59,7 @@ StereoVo::StereoVo(const StereoIntrinsics& camera, const VoConfig& config)
 }
 
 FrameResult StereoVo::process(int frame, const cv::Mat& left, const cv::Mat& right) {
+  if (closed_) throw std::logic_error("StereoVo::process after finish()");
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1 || left.size() != right.size() ||
       left.cols != camera_.width || left.rows != camera_.height) {
     throw std::invalid_argument("StereoVo: frame " + std::to_string(frame) +
@@ -83,7 +84,7 @@ FrameResult StereoVo::process(int frame, const cv::Mat& left, const cv::Mat& rig
     const bool tracked = track(predicted, pyramid, r);
     times_.track += ms_since(t0);
     t0 = Clock::now();
-    const bool posed = tracked && estimate_pose(predicted, T, r);
+    const bool posed = tracked && estimate_pose(T, r);
     times_.pose += ms_since(t0);
     if (!posed) {
       // Explicit reset: bridge with the motion model, rebuild the map from this stereo pair.
@@ -140,8 +141,7 @@ bool StereoVo::track(const Eigen::Isometry3d& predicted, const std::vector<cv::M
   return r.tracked >= config_.min_inliers;
 }
 
-bool StereoVo::estimate_pose(const Eigen::Isometry3d& predicted, Eigen::Isometry3d& T,
-                             FrameResult& r) {
+bool StereoVo::estimate_pose(Eigen::Isometry3d& T, FrameResult& r) {
   std::vector<cv::Point3d> object;
   std::vector<cv::Point2d> image;
   for (const Track& t : tracks_) {
@@ -175,7 +175,6 @@ bool StereoVo::estimate_pose(const Eigen::Isometry3d& predicted, Eigen::Isometry
   if (r.inliers < config_.min_inliers) return false;
   T = T_cam_world.inverse();
   if ((T.translation() - last_pose_.translation()).norm() > config_.max_step_m) return false;
-  (void)predicted;
   tracks_ = std::move(kept);
   return true;
 }
@@ -288,6 +287,7 @@ void StereoVo::finish_oldest() {
 }
 
 void StereoVo::finish() {
+  closed_ = true;
   while (!window_.empty()) finish_oldest();
 }
 

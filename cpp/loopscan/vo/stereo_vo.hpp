@@ -49,7 +49,7 @@ class StereoVo {
 
   // Rectified 8-bit left/right images of the next frame (frame ids increasing).
   FrameResult process(int frame, const cv::Mat& left, const cv::Mat& right);
-  // Closes the window: every keyframe becomes finished.
+  // Closes the window: every keyframe becomes finished; process() may not be called again.
   void finish();
 
   const std::vector<FinishedKeyframe>& finished_keyframes() const { return finished_; }
@@ -82,8 +82,8 @@ class StereoVo {
 
   bool track(const Eigen::Isometry3d& predicted, const std::vector<cv::Mat>& pyramid,
              FrameResult& result);
-  bool estimate_pose(const Eigen::Isometry3d& predicted, Eigen::Isometry3d& T_world_cam,
-                     FrameResult& result);
+  // P3P RANSAC + LM against the tracks' map points (the minimal solver needs no prior).
+  bool estimate_pose(Eigen::Isometry3d& T_world_cam, FrameResult& result);
   bool needs_keyframe(const Eigen::Isometry3d& T_world_cam, int inliers) const;
   void add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right,
                     Eigen::Isometry3d& T_world_cam, bool reset);
@@ -106,7 +106,7 @@ class StereoVo {
   Eigen::Isometry3d velocity_ = Eigen::Isometry3d::Identity();  // last_prev^-1 * last
   int keyframe_tracks_ = 0;  // tracks right after the last keyframe
   int keyframes_ = 0;
-  bool started_ = false;
+  bool started_ = false, closed_ = false;
   StageTimes times_;
 };
 
