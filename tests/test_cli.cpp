@@ -433,6 +433,9 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   EXPECT_NE(missing.output.find("nope"), std::string::npos) << missing.output;
   EXPECT_FALSE(fs::exists(d / "x"));
   EXPECT_EQ(run("vo --kitti " + seq + " --points 0 --out " + (d / "y").string()).code, 2);
+  EXPECT_EQ(run("run --kitti " + seq + " --methods sc nope --out " + (d / "y").string()).code, 2);
+  EXPECT_EQ(run("run --kitti " + seq + " --methods bow --out " + (d / "y").string()).code, 2);
+  EXPECT_FALSE(fs::exists(d / "y"));
   write(d / "seq/poses.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n");
   const CliResult short_gt = run("vo --kitti " + seq + " --out " + (d / "z").string());
   EXPECT_EQ(short_gt.code, 2);

@@ -91,6 +91,10 @@ report::Figure trajectory_figure(const VoResult& vo, const std::vector<Eigen::Ve
 
 void run_all(const RunArgs& a) {
   const Mode mode = parse_mode(a.mode);
+  for (const std::string& name : a.methods) {  // before the VO runs
+    if (!is_image_method(name)) parse_method(name);
+    if (name == "bow" && a.vocab.empty()) throw std::invalid_argument("--methods bow needs --vocab");
+  }
   VoArgs vo_args = a.vo;
   vo_args.out = a.out + "/vo";
   std::printf("[1/3] stereo VO on %s\n", a.vo.kitti.c_str());
@@ -153,7 +157,6 @@ void run_all(const RunArgs& a) {
         r.query_ms = ev.query_ms;
       }
     } else {
-      if (name == "bow" && a.vocab.empty()) throw std::invalid_argument("--methods bow needs --vocab");
       const io::KittiSequence sequence = io::open_kitti_sequence(a.vo.kitti);
       baselines::ImageDescriptors d;
       if (name == "gist") {
