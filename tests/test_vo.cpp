@@ -297,7 +297,19 @@ TEST(StereoVo, ExportedPointsLieOnTheSurfacesWhereTheyWereSelected) {
       const Eigen::Vector3d p_cam = kf.T_world_cam.inverse() * p_world;
       EXPECT_NEAR(s.camera.fx * p_cam.x() / p_cam.z() + s.camera.cx, cp.u, 1e-6);
       EXPECT_NEAR(s.camera.fy * p_cam.y() / p_cam.z() + s.camera.cy, cp.v, 1e-6);
-      EXPECT_EQ(cp.gray, image.at<std::uint8_t>(static_cast<int>(cp.v), static_cast<int>(cp.u)));
+      // The gray is the surface's beside the edge: 2 px along the gradient, flatter side.
+      const int u = static_cast<int>(cp.u), v = static_cast<int>(cp.v);
+      auto gray_at = [&](int x, int y) { return static_cast<double>(image.at<std::uint8_t>(y, x)); };
+      auto grad = [&](int x, int y) {
+        return std::hypot(0.5 * (gray_at(x + 1, y) - gray_at(x - 1, y)),
+                          0.5 * (gray_at(x, y + 1) - gray_at(x, y - 1)));
+      };
+      const double gx = 0.5 * (gray_at(u + 1, v) - gray_at(u - 1, v));
+      const double gy = 0.5 * (gray_at(u, v + 1) - gray_at(u, v - 1));
+      const int dx = static_cast<int>(std::lround(2 * gx / std::hypot(gx, gy)));
+      const int dy = static_cast<int>(std::lround(2 * gy / std::hypot(gx, gy)));
+      const bool a_flatter = grad(u + dx, v + dy) < grad(u - dx, v - dy);
+      EXPECT_EQ(cp.gray, a_flatter ? gray_at(u + dx, v + dy) : gray_at(u - dx, v - dy));
       // Through the true pose the point's disparity is one the renderer's rays see within the
       // matching window (window matching puts depth edges on either side of the edge).
       double lo = 1e9, hi = -1e9;

@@ -50,6 +50,31 @@ std::vector<cv::Point2f> detect_grid_corners(const cv::Mat& image,
   return out;
 }
 
+namespace {
+
+// The gray of the surface beside an edge pixel: 2 px along the gradient, on the side where the
+// gradient is weaker. The edge pixel's own gray is a mix of both sides that changes with the
+// edge's sub-pixel position from one visit to the next; on the rendered city this lifts
+// DELIGHT's AUC from 0.55 to 0.80 (README, "Stereo VO").
+float surface_gray(const cv::Mat& image, const std::vector<float>& magnitude, int x, int y) {
+  const int w = image.cols, h = image.rows;
+  const float gx = 0.5f * (static_cast<float>(image.at<std::uint8_t>(y, x + 1)) -
+                           image.at<std::uint8_t>(y, x - 1));
+  const float gy = 0.5f * (static_cast<float>(image.at<std::uint8_t>(y + 1, x)) -
+                           image.at<std::uint8_t>(y - 1, x));
+  const float norm = std::sqrt(gx * gx + gy * gy);
+  if (!(norm > 0)) return image.at<std::uint8_t>(y, x);
+  const int dx = static_cast<int>(std::lround(2.0f * gx / norm));
+  const int dy = static_cast<int>(std::lround(2.0f * gy / norm));
+  const int ax = std::clamp(x + dx, 1, w - 2), ay = std::clamp(y + dy, 1, h - 2);
+  const int bx = std::clamp(x - dx, 1, w - 2), by = std::clamp(y - dy, 1, h - 2);
+  const bool a_flatter = magnitude[static_cast<std::size_t>(ay) * w + ax] <
+                         magnitude[static_cast<std::size_t>(by) * w + bx];
+  return a_flatter ? image.at<std::uint8_t>(ay, ax) : image.at<std::uint8_t>(by, bx);
+}
+
+}  // namespace
+
 std::vector<CameraPoint> select_gradient_points(const cv::Mat& left, const cv::Mat& right,
                                                 const StereoIntrinsics& camera,
                                                 const VoConfig& config) {
@@ -118,7 +143,7 @@ std::vector<CameraPoint> select_gradient_points(const cv::Mat& left, const cv::M
       CameraPoint p;
       p.p_cam = back_project(camera, best_x, best_y, d);
       if (p.p_cam.z() < config.min_depth_m || p.p_cam.z() > config.point_max_depth_m) continue;
-      p.gray = left.at<std::uint8_t>(best_y, best_x);
+      p.gray = surface_gray(left, magnitude, best_x, best_y);
       p.u = static_cast<float>(best_x);
       p.v = static_cast<float>(best_y);
       found.push_back({p, best_g});

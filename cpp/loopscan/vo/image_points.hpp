@@ -22,7 +22,7 @@ std::vector<cv::Point2f> detect_grid_corners(const cv::Mat& image,
 
 struct CameraPoint {
   Eigen::Vector3d p_cam;  // left camera frame
-  float gray = 0;
+  float gray = 0;         // of the surface beside the edge (2 px along the gradient, flatter side)
   float u = 0, v = 0;  // pixel it was selected at
 };
 
