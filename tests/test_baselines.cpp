@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "rendered_street.hpp"
+
 #include "loopscan/baselines/gist.hpp"
 #include "loopscan/baselines/inverted_index.hpp"
 #include "loopscan/baselines/orb_features.hpp"
@@ -203,16 +205,8 @@ TEST(Bow, TrainedTreeIsAKMajorityHierarchyWithIdfWeights) {
 }
 
 TEST(Bow, ImageScoresOneWithItselfAndLowWithAnotherPlace) {
-  const sim::Trajectory route = sim::make_builtin_trajectory("short");
-  const sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
-  const sim::Conditions summer = sim::Conditions::for_season(sim::Season::Summer);
-  const sim::StereoCamera camera = sim::scaled_camera(sim::StereoCamera{}, 0.5);
-  sim::RenderConfig rc;
-  rc.threads = 2;
-  auto image = [&](int frame) {
-    const sim::GrayImage g = sim::render_view(world, summer, camera, route.T_world_cam[frame], 0, frame, rc);
-    return cv::Mat(g.height, g.width, CV_8UC1, const_cast<std::uint8_t*>(g.pixels.data())).clone();
-  };
+  const test::ShortStreet street(0.5);
+  auto image = [&](int frame) { return street.render(frame, 0); };
   baselines::OrbConfig orb;
   orb.features = 1000;
   std::vector<cv::Mat> training;

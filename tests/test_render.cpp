@@ -1,5 +1,7 @@
 // Stereo rendering of the synthetic world and the PNG files it writes.
 #include <gtest/gtest.h>
+
+#include "rendered_street.hpp"
 #include <zlib.h>
 
 #include <algorithm>
@@ -105,15 +107,8 @@ TEST(Png, DamagedOrUnsupportedFilesAreClearErrors) {
   fs::remove(p);
 }
 
-struct Street {
-  sim::Trajectory route = sim::make_builtin_trajectory("short");
-  sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
-  sim::Conditions conditions = sim::Conditions::for_season(sim::Season::Summer);
-  sim::StereoCamera camera = sim::scaled_camera(sim::StereoCamera{}, 0.25);
-};
-
-const Street& street() {
-  static const Street s;
+const test::ShortStreet& street() {
+  static const test::ShortStreet s(0.25);
   return s;
 }
 
@@ -132,7 +127,7 @@ TEST(Render, ScaledCameraKeepsTheGeometry) {
 }
 
 TEST(Render, DeterministicAndIndependentOfThreads) {
-  const Street& s = street();
+  const test::ShortStreet& s = street();
   sim::RenderConfig one, two;
   two.threads = 2;
   const auto& T = s.route.T_world_cam[30];
@@ -152,7 +147,7 @@ TEST(Render, DeterministicAndIndependentOfThreads) {
 TEST(Render, RightImageIsTheLeftShiftedByTheDisparity) {
   // For pixels of the left image that see a surface at depth z, the right image shows the same
   // gray bf / z pixels to the left; a wrong disparity matches much worse.
-  const Street& s = street();
+  const test::ShortStreet& s = street();
   sim::RenderConfig rc;
   rc.noise_sigma = 0;
   const auto& T = s.route.T_world_cam[60];

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "rendered_street.hpp"
+
 #include "loopscan/eval/odometry_metrics.hpp"
 #include "loopscan/sim/renderer.hpp"
 #include "loopscan/sim/trajectory.hpp"
@@ -180,26 +182,12 @@ TEST(BundleAdjustment, RecoversPerturbedPosesAndPoints) {
 
 // ---- the VO on rendered images -------------------------------------------------------------
 
-struct Scene {
-  sim::Trajectory route = sim::make_builtin_trajectory("short");
-  sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
-  sim::Conditions conditions = sim::Conditions::for_season(sim::Season::Summer);
-  sim::StereoCamera camera = sim::scaled_camera(sim::StereoCamera{}, 0.5);
-};
-
-const Scene& scene() {
-  static const Scene s;
+const test::ShortStreet& scene() {
+  static const test::ShortStreet s(0.5);
   return s;
 }
 
-cv::Mat render(int frame, int camera_index) {
-  const Scene& s = scene();
-  sim::RenderConfig rc;
-  rc.threads = 2;
-  const sim::GrayImage g = sim::render_view(s.world, s.conditions, s.camera,
-                                            s.route.T_world_cam[frame], camera_index, frame, rc);
-  return cv::Mat(g.height, g.width, CV_8UC1, const_cast<std::uint8_t*>(g.pixels.data())).clone();
-}
+cv::Mat render(int frame, int camera_index) { return scene().render(frame, camera_index); }
 
 vo::StereoIntrinsics intrinsics() {
   const sim::StereoCamera& c = scene().camera;
@@ -283,7 +271,7 @@ TEST(StereoVo, TracksARightTurn) {
 
 TEST(StereoVo, ExportedPointsLieOnTheSurfacesWhereTheyWereSelected) {
   const Drive d = drive(0, 12);
-  const Scene& s = scene();
+  const test::ShortStreet& s = scene();
   const Eigen::Isometry3d T0 = s.route.T_world_cam[0];
   int checked = 0, depth_ok = 0, pixel_ok = 0;
   for (const vo::FinishedKeyframe& kf : d.keyframes) {
