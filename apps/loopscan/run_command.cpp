@@ -46,18 +46,10 @@ struct MethodRun {
   double query_ms = 0;
 };
 
-MethodRun evaluate_and_write(MethodRun r, const std::string& dir,
-                             const std::vector<eval::QueryMatch>& matches,
-                             const std::vector<Eigen::Vector3d>& gt_rows, Mode mode) {
-  std::vector<Eigen::Vector3d> positions;
-  for (int id : r.keyframe_ids) positions.push_back(gt_rows[static_cast<std::size_t>(id)]);
-  r.pr = eval::evaluate_matches(matches, positions, positions, eval::same_session_protocol(),
-                                mode == Mode::Reference);
-  r.evaluated = true;
+void write_method_evaluation(const MethodRun& r, const std::string& dir, Mode mode) {
   nlohmann::json metrics = {{"method", r.name}, {"mode", mode_name(mode)}, {"query_ms", r.query_ms}};
   metrics.update(pr_metrics(r.pr));
   write_evaluation(dir, r.keyframe_ids, r.keyframe_ids, r.pr, metrics, r.name);
-  return r;
 }
 
 std::string fixed(double x, int digits) {
@@ -126,7 +118,11 @@ void run_all(const RunArgs& a) {
     MethodRun r;
     r.name = name;
     const std::string dir = a.out + "/" + name;
-    std::vector<eval::QueryMatch> matches;
+    auto positions_of = [&](const std::vector<int>& ids) {
+      std::vector<Eigen::Vector3d> positions;
+      for (int id : ids) positions.push_back(gt_rows[static_cast<std::size_t>(id)]);
+      return positions;
+    };
     if (!is_image_method(name)) {
       const Method method = parse_method(name);
       SequenceOptions options = SequenceOptions::make(method, mode);
@@ -149,12 +145,12 @@ void run_all(const RunArgs& a) {
         eo.threads = std::max(1, a.threads);
         eo.precision = mode == Mode::Reference ? Precision::Double : Precision::Float;
         eo.reference_quirks = mode == Mode::Reference;
-        std::vector<Eigen::Vector3d> positions;
-        for (int id : sig.keyframe_ids) positions.push_back(gt_rows[static_cast<std::size_t>(id)]);
+        const std::vector<Eigen::Vector3d> positions = positions_of(sig.keyframe_ids);
         const eval::PlaceEvaluation ev =
             eval::evaluate_places(sig.signatures, sig.signatures, positions, positions, eo);
-        matches = ev.matches;
+        r.pr = ev.pr;
         r.query_ms = ev.query_ms;
+        r.evaluated = true;
       }
     } else {
       const io::KittiSequence sequence = io::open_kitti_sequence(a.vo.kitti);
@@ -173,11 +169,14 @@ void run_all(const RunArgs& a) {
         const baselines::BaselineMatches m = name == "gist"
                                                  ? baselines::best_gist_matches(d.gist, d.gist, mask)
                                                  : baselines::best_bow_matches(d.bow, d.bow, mask);
-        matches = m.matches;
+        const std::vector<Eigen::Vector3d> positions = positions_of(places);
+        r.pr = eval::evaluate_matches(m.matches, positions, positions,
+                                      eval::same_session_protocol(), mode == Mode::Reference);
         r.query_ms = m.query_ms;
+        r.evaluated = true;
       }
     }
-    if (!matches.empty()) r = evaluate_and_write(std::move(r), dir, matches, gt_rows, mode);
+    if (r.evaluated) write_method_evaluation(r, dir, mode);
     runs.push_back(std::move(r));
   }
 
