@@ -16,7 +16,6 @@
 #include "loopscan/core/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
-#include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/plot.hpp"
@@ -63,8 +62,7 @@ report::Figure trajectory_figure(const VoResult& vo, const std::vector<Eigen::Ve
   report::Series truth{"ground truth", {}, {}, "#444444"}, estimate{"VO", {}, {}, "#d62728"};
   Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();
   if (!gt.empty()) {
-    const auto rows = io::read_kitti_poses(vo.gt_path);
-    anchor.matrix().topRows<3>() = rows[static_cast<std::size_t>(vo.run.frame_ids.front())];
+    anchor.matrix().topRows<3>() = vo.gt_poses[static_cast<std::size_t>(vo.run.frame_ids.front())];
   }
   for (std::size_t i = 0; i < vo.run.trajectory.size(); ++i) {
     const Eigen::Vector3d p = anchor * vo.run.trajectory[i].translation();
@@ -94,7 +92,7 @@ void run_all(const RunArgs& a) {
   std::vector<Eigen::Vector3d> gt_by_frame;  // per trajectory entry
   std::vector<Eigen::Vector3d> gt_rows;
   if (!vo.gt_path.empty()) {
-    gt_rows = io::read_positions(vo.gt_path, io::GtFormat::Kitti);
+    for (const auto& T : vo.gt_poses) gt_rows.push_back(T.col(3));
     for (int f : vo.run.frame_ids) gt_by_frame.push_back(gt_rows[static_cast<std::size_t>(f)]);
   } else {
     std::printf("no ground truth (%s/poses.txt or --gt): describing without evaluation\n",

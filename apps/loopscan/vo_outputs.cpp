@@ -63,7 +63,7 @@ VoResult run_vo_and_write(const VoArgs& a) {
   result.gt_path = a.gt;
   if (result.gt_path.empty() && std::filesystem::exists(a.kitti + "/poses.txt"))
     result.gt_path = a.kitti + "/poses.txt";
-  std::vector<Eigen::Matrix<double, 3, 4>> gt_rows;
+  std::vector<Eigen::Matrix<double, 3, 4>>& gt_rows = result.gt_poses;
   if (!result.gt_path.empty()) {
     gt_rows = io::read_kitti_poses(result.gt_path);
     if (gt_rows.size() < sequence.frames()) {

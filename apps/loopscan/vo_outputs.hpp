@@ -23,6 +23,7 @@ struct VoArgs {
 struct VoResult {
   vo::SequenceRun run;
   std::string gt_path;  // empty: no ground truth
+  std::vector<Eigen::Matrix<double, 3, 4>> gt_poses;  // every line of gt_path (camera-to-world)
   nlohmann::json summary;
 };
 

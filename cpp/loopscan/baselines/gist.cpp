@@ -193,12 +193,15 @@ Eigen::VectorXf GistExtractor::describe(const cv::Mat& input) {
   const int g = config_.grid;
   Eigen::VectorXf out(this->size());
   std::vector<double> cell(static_cast<std::size_t>(g) * g);
-  std::vector<int> cell_pixels(cell.size(), 0);
+  // First column (and, the image being square, first row) of each grid cell.
   std::vector<int> column_start(static_cast<std::size_t>(g) + 1, size);
   for (int x = size - 1; x >= 0; --x) column_start[x * g / size] = x;
+  std::vector<int> cell_pixels(cell.size());
+  for (int cy = 0; cy < g; ++cy)
+    for (int cx = 0; cx < g; ++cx)
+      cell_pixels[static_cast<std::size_t>(cy) * g + cx] = (column_start[cy + 1] - column_start[cy]) *
+                                                          (column_start[cx + 1] - column_start[cx]);
   std::vector<float> magnitude(static_cast<std::size_t>(size));
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) ++cell_pixels[static_cast<std::size_t>(y * g / size) * g + x * g / size];
   const double inv_n2 = 1.0 / (static_cast<double>(n) * n);
   for (std::size_t k = 0; k < bank_.size(); ++k) {
     const std::vector<float>& h = bank_[k].transfer;
