@@ -15,7 +15,7 @@
 #include <memory>
 #include <random>
 
-#include "loopscan/core/database.hpp"
+#include "loopscan/core/database/database.hpp"
 #include "loopscan/sim/simulated_places.hpp"
 
 namespace loopscan {

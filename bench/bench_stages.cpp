@@ -8,10 +8,10 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "loopscan/core/camera_points.hpp"
-#include "loopscan/core/describe.hpp"
-#include "loopscan/core/place_matcher.hpp"
-#include "loopscan/core/scan_imitator.hpp"
+#include "loopscan/core/scan/camera_points.hpp"
+#include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/matching/place_matcher.hpp"
+#include "loopscan/core/scan/scan_imitator.hpp"
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/io/matrix_text.hpp"
 #include "loopscan/io/sodso.hpp"

@@ -1,7 +1,12 @@
-# loopscan_library(<name> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
-# Builds loopscan_<name>, aliased loopscan::<name>, headers under cpp/ as <loopscan/<name>/...>.
+# loopscan_library(<name> SOURCES ... [HEADER_DIR dir] [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# Builds loopscan_<name>, aliased loopscan::<name>. Headers are included as
+# <loopscan/<HEADER_DIR>/...> (HEADER_DIR defaults to <name>) from the source tree and from an
+# installed package alike; only this folder's own headers are installed (not its subfolders').
 function(loopscan_library name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  cmake_parse_arguments(ARG "" "HEADER_DIR" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  if(NOT ARG_HEADER_DIR)
+    set(ARG_HEADER_DIR ${name})
+  endif()
   add_library(loopscan_${name} ${ARG_SOURCES})
   add_library(loopscan::${name} ALIAS loopscan_${name})
   set_target_properties(loopscan_${name} PROPERTIES EXPORT_NAME ${name})
@@ -12,6 +17,6 @@ function(loopscan_library name)
   target_compile_options(loopscan_${name} PRIVATE ${LOOPSCAN_WARNINGS})
   install(TARGETS loopscan_${name} EXPORT loopscanTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/loopscan/${name}
-    FILES_MATCHING PATTERN "*.hpp")
+  file(GLOB headers CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.hpp)
+  install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/loopscan/${ARG_HEADER_DIR})
 endfunction()

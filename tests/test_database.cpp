@@ -9,12 +9,12 @@
 #include <random>
 #include <set>
 
-#include "loopscan/core/database.hpp"
-#include "loopscan/core/describe.hpp"
-#include "loopscan/core/fusion.hpp"
-#include "loopscan/core/key_index.hpp"
-#include "loopscan/core/pair_distance.hpp"
-#include "loopscan/core/scan_context_spectra.hpp"
+#include "loopscan/core/database/database.hpp"
+#include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/matching/fusion.hpp"
+#include "loopscan/core/database/key_index.hpp"
+#include "loopscan/core/matching/pair_distance.hpp"
+#include "loopscan/core/matching/scan_context_spectra.hpp"
 #include "test_support.hpp"
 
 namespace loopscan {

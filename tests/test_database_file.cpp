@@ -8,7 +8,7 @@
 
 #include <unistd.h>
 
-#include "loopscan/core/database.hpp"
+#include "loopscan/core/database/database.hpp"
 #include "loopscan/io/database_file.hpp"
 #include "loopscan/io/errors.hpp"
 

@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <limits>
 
-#include "loopscan/core/database.hpp"
-#include "loopscan/core/describe_sequence.hpp"
-#include "loopscan/core/recognizer.hpp"
+#include "loopscan/core/database/database.hpp"
+#include "loopscan/core/pipeline/describe_sequence.hpp"
+#include "loopscan/core/pipeline/recognizer.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/sim/simulated_places.hpp"
 #include "loopscan/sim/vo_simulator.hpp"

@@ -4,12 +4,12 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
-#include "loopscan/core/delight.hpp"
-#include "loopscan/core/describe.hpp"
-#include "loopscan/core/leading_singular.hpp"
-#include "loopscan/core/m2dp.hpp"
-#include "loopscan/core/pca_align.hpp"
-#include "loopscan/core/scan_context.hpp"
+#include "loopscan/core/descriptors/delight.hpp"
+#include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/descriptors/leading_singular.hpp"
+#include "loopscan/core/descriptors/m2dp.hpp"
+#include "loopscan/core/descriptors/pca_align.hpp"
+#include "loopscan/core/descriptors/scan_context.hpp"
 #include "test_support.hpp"
 
 namespace loopscan {

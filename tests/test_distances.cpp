@@ -4,10 +4,10 @@
 
 #include <Eigen/Geometry>
 
-#include "loopscan/core/describe.hpp"
-#include "loopscan/core/fusion.hpp"
-#include "loopscan/core/pair_distance.hpp"
-#include "loopscan/core/place_matcher.hpp"
+#include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/matching/fusion.hpp"
+#include "loopscan/core/matching/pair_distance.hpp"
+#include "loopscan/core/matching/place_matcher.hpp"
 #include "test_support.hpp"
 
 namespace loopscan {

@@ -5,10 +5,10 @@
 #include <map>
 #include <set>
 
-#include "loopscan/core/describe_sequence.hpp"
-#include "loopscan/core/fast_angle.hpp"
-#include "loopscan/core/point_filter.hpp"
-#include "loopscan/core/scan_imitator.hpp"
+#include "loopscan/core/pipeline/describe_sequence.hpp"
+#include "loopscan/core/descriptors/fast_angle.hpp"
+#include "loopscan/core/scan/point_filter.hpp"
+#include "loopscan/core/scan/scan_imitator.hpp"
 #include "test_support.hpp"
 
 namespace loopscan {
@@ -198,7 +198,7 @@ TEST(FastAngle, TableBinnerMatchesExactFormulaForEveryUsedWidth) {
 }  // namespace
 }  // namespace loopscan
 
-#include "loopscan/core/camera_points.hpp"
+#include "loopscan/core/scan/camera_points.hpp"
 
 namespace loopscan {
 namespace {

@@ -1,7 +1,7 @@
 // The default-mode pipeline end to end on the built-in tiny scene (what `loopscan demo` runs).
 #include <gtest/gtest.h>
 
-#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/sim/tiny_scene.hpp"
 

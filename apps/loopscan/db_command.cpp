@@ -9,7 +9,7 @@
 
 #include "commands.hpp"
 #include "evaluation_outputs.hpp"
-#include "loopscan/core/database.hpp"
+#include "loopscan/core/database/database.hpp"
 #include "loopscan/eval/precision_recall.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/database_file.hpp"

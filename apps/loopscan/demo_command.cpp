@@ -8,7 +8,7 @@
 
 #include "commands.hpp"
 #include "demo_figures.hpp"
-#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/report/html_page.hpp"

@@ -2,7 +2,7 @@
 // The demo report: results of every method and the figures built from them.
 #include <vector>
 
-#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/sim/vo_simulator.hpp"

@@ -13,7 +13,7 @@
 #include "loopscan/baselines/baseline_matching.hpp"
 #include "loopscan/baselines/describe_images.hpp"
 #include "loopscan/baselines/vocabulary_io.hpp"
-#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/incoming_ids.hpp"

@@ -3,7 +3,7 @@
 // stacked), incoming_id_file.txt and frames.txt (descriptor axes per place, row-major 3x3).
 #include <string>
 
-#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/core/pipeline/describe_sequence.hpp"
 
 namespace loopscan::cli {
 

@@ -3,8 +3,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
-#include <loopscan/core/describe.hpp>
-#include <loopscan/core/pair_distance.hpp>
+#include <loopscan/core/descriptors/describe.hpp>
+#include <loopscan/core/matching/pair_distance.hpp>
 
 int main() {
   loopscan::Cloud a;

@@ -3,8 +3,8 @@
 // matcher, fusion, mask, per-query best match, PR curve and metrics.
 #include <vector>
 
-#include "loopscan/core/fusion.hpp"
-#include "loopscan/core/place_matcher.hpp"
+#include "loopscan/core/matching/fusion.hpp"
+#include "loopscan/core/matching/place_matcher.hpp"
 #include "loopscan/eval/precision_recall.hpp"
 #include "loopscan/eval/protocol.hpp"
 

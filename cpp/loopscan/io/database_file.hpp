@@ -11,7 +11,7 @@
 // of a loaded database reproduces the file byte for byte.
 #include <string>
 
-#include "loopscan/core/database.hpp"
+#include "loopscan/core/database/database.hpp"
 
 namespace loopscan::io {
 

@@ -1,6 +1,6 @@
 #include "loopscan/sim/simulated_places.hpp"
 
-#include "loopscan/core/describe_sequence.hpp"
+#include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/sim/vo_simulator.hpp"
 #include "loopscan/sim/world.hpp"
 

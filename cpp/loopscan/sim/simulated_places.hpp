@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include "loopscan/core/database.hpp"
+#include "loopscan/core/database/database.hpp"
 #include "loopscan/sim/conditions.hpp"
 #include "loopscan/sim/trajectory.hpp"
 

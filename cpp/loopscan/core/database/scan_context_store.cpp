@@ -1,0 +1,165 @@
+// Scan Context places: packed spectra (scan_context_spectra.hpp) followed by a quantised
+// spectral key. Retrieval has two index stages before exact scoring:
+//  1. a KD-tree over Scan Context's ring key (per ring the sector sum of the normalised
+//     structure half, i.e. each ring's DC term), summed over pairs of rings (10-D);
+//  2. the KD-tree's candidates re-ranked by a richer rotation-invariant key: for both halves
+//     and every ring, the DC term and the magnitudes of the two lowest harmonics (120-D).
+// The 120-D key is stored quantised (uint16) after the spectra, ring key first; the tree keeps
+// its own contiguous copy of the 10-D key.
+// On the simulated city the ring key alone puts the exact best place among 50 candidates for
+// ~40% of same-season queries and ~89% across seasons; the two stages reach ~65% and ~99%
+// (README, "Place database").
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+
+#include "loopscan/core/database/key_index.hpp"
+#include "loopscan/core/database/place_store.hpp"
+
+namespace loopscan {
+namespace {
+
+constexpr int kKeyFrequencies = 2;
+constexpr float kKeyScale = 8192.f;   // quantisation of the spectral key (see spectral_key)
+constexpr int kRingsPerKey = 2;       // rings summed into one dimension of the tree's key
+
+class ScanContextStore final : public PlaceStore {
+  struct SpectraQuery : Query {
+    ScanContextSpectra::Query spectra;
+    std::vector<float> ring_key;
+    std::vector<std::uint16_t> key;
+  };
+
+ public:
+  explicit ScanContextStore(const ScanContextConfig& config)
+      : PlaceStore(spectra_floats(config) + key_floats(config), spectra_floats(config)),
+        spectra_(config),
+        key_dims_(key_dims(config)),
+        keys_(key_floats(config)),
+        index_((config.rings + kRingsPerKey - 1) / kRingsPerKey) {}
+
+  int components() const override { return 2; }
+
+  void encode(const Signature& signature, float* payload) const override {
+    spectra_.pack(signature, payload);
+    const std::vector<std::uint16_t> key = spectral_key(payload);
+    std::memset(payload + spectra_.floats_per_place(), 0, ((key.size() + 1) / 2) * sizeof(float));
+    std::memcpy(payload + spectra_.floats_per_place(), key.data(), key.size() * 2);
+  }
+  // The spectra are the scoring record; the spectral keys live in their own arena, so the
+  // re-ranking of hundreds of candidates reads 240 contiguous bytes each, not a 9.6 KB record.
+  void append(const float* payload) override {
+    arena_.append(payload);
+    keys_.append(payload + spectra_.floats_per_place());
+  }
+  void stored(std::size_t i, float* out) const override {
+    std::copy(arena_.at(i), arena_.at(i) + spectra_.floats_per_place(), out);
+    std::copy(keys_.at(i), keys_.at(i) + keys_.floats_per_record(), out + spectra_.floats_per_place());
+  }
+  std::size_t memory_bytes() const override {
+    return arena_.memory_bytes() + keys_.memory_bytes() + index_bytes();
+  }
+  void indexed_up_to(std::size_t n) override {
+    std::vector<std::uint16_t> key(key_dims_);
+    for (std::size_t i = index_.size(); i < n; ++i) {
+      std::memcpy(key.data(), keys_.at(i), key_dims_ * 2);
+      index_.add(tree_key(key).data());
+    }
+  }
+
+  std::unique_ptr<Query> prepare(const Signature& signature) const override {
+    auto q = std::make_unique<SpectraQuery>();
+    q->spectra = spectra_.prepare(signature);
+    q->key = spectral_key(q->spectra.packed.data());
+    q->ring_key = tree_key(q->key);
+    return q;
+  }
+
+  void distances(const Query& query, const float* payload, double* out) const override {
+    float best[2];
+    spectra_.best_dots(static_cast<const SpectraQuery&>(query).spectra, payload, best);
+    out[0] = (1.0 - double(best[0])) / 2.0;
+    out[1] = (1.0 - double(best[1])) / 2.0;
+  }
+
+  void candidates(const Query& query, std::size_t count, std::size_t pool,
+                  const Eligible& eligible, std::size_t,
+                  std::vector<std::size_t>& out) const override {
+    const auto& q = static_cast<const SpectraQuery&>(query);
+    std::vector<std::pair<float, std::size_t>> near;
+    index_.nearest(q.ring_key.data(), std::max(count, pool), eligible, near);
+    std::vector<std::pair<std::int64_t, std::size_t>> ranked;
+    ranked.reserve(near.size());
+    const std::size_t dims = q.key.size();
+    std::vector<std::uint16_t> key(dims);
+    for (const auto& [d, i] : near) {
+      std::memcpy(key.data(), keys_.at(i), dims * 2);
+      std::int64_t e = 0;
+      for (std::size_t t = 0; t < dims; ++t) {
+        const std::int64_t diff = std::int64_t(q.key[t]) - key[t];
+        e += diff * diff;
+      }
+      ranked.emplace_back(e, i);
+    }
+    const std::size_t n = std::min(count, ranked.size());
+    std::partial_sort(ranked.begin(), ranked.begin() + n, ranked.end());
+    out.clear();
+    for (std::size_t j = 0; j < n; ++j) out.push_back(ranked[j].second);
+  }
+
+  std::optional<SectorAlignment> align(const Query& query, const float* payload) const override {
+    return spectra_.align(static_cast<const SpectraQuery&>(query).spectra, payload, 0);
+  }
+  int sectors() const override { return spectra_.sectors(); }
+  std::size_t index_bytes() const override { return index_.memory_bytes(); }
+
+ private:
+  static std::size_t spectra_floats(const ScanContextConfig& c) {
+    return 2 * static_cast<std::size_t>(c.rings) * c.sectors;
+  }
+  // The tree's key: the ring key (the first R values of the spectral key) summed over pairs
+  // of rings, which keeps the tree fast (10-D) and loses nothing measurable after stage 2.
+  std::vector<float> tree_key(const std::vector<std::uint16_t>& key) const {
+    std::vector<float> out;
+    for (int r = 0; r < spectra_.rings(); r += kRingsPerKey) {
+      float sum = 0;
+      for (int t = r; t < std::min(spectra_.rings(), r + kRingsPerKey); ++t) sum += key[t];
+      out.push_back(sum / kKeyScale);
+    }
+    return out;
+  }
+  static std::size_t key_floats(const ScanContextConfig& c) { return (key_dims(c) + 1) / 2; }
+  static std::size_t key_dims(const ScanContextConfig& c) {
+    return static_cast<std::size_t>(ScanContextSpectra::key_dims(c.rings, kKeyFrequencies));
+  }
+  // Values of a normalised half lie in [0, sqrt(S)]; 1/8192 steps up to 8 cover the default
+  // 60 sectors (sqrt(60) = 7.7) with a step far below the key differences that matter.
+  std::vector<std::uint16_t> spectral_key(const float* packed) const {
+    const int dims = ScanContextSpectra::key_dims(spectra_.rings(), kKeyFrequencies);
+    const int per_ring = 1 + kKeyFrequencies, R = spectra_.rings();
+    std::vector<std::uint16_t> key;
+    key.reserve(dims);
+    auto push = [&](int d) {
+      const float v = spectra_.key(packed, d, kKeyFrequencies) * kKeyScale;
+      key.push_back(static_cast<std::uint16_t>(std::clamp(v + 0.5f, 0.f, 65535.f)));
+    };
+    for (int r = 0; r < R; ++r) push(r * per_ring);  // the ring key: structure DC terms
+    for (int d = 0; d < dims; ++d) {
+      if (d >= R * per_ring || d % per_ring != 0) push(d);
+    }
+    return key;
+  }
+
+  ScanContextSpectra spectra_;
+  std::size_t key_dims_;
+  PayloadArena keys_;  // quantised spectral keys, ring key first (uint16 pairs in floats)
+  KeyIndex index_;
+};
+
+}  // namespace
+
+std::unique_ptr<PlaceStore> make_scan_context_store(const ScanContextConfig& config) {
+  return std::make_unique<ScanContextStore>(config);
+}
+
+}  // namespace loopscan

@@ -1,0 +1,31 @@
+#include "loopscan/core/descriptors/delight.hpp"
+
+#include <algorithm>
+
+#include "loopscan/core/descriptors/pca_align.hpp"
+
+namespace loopscan {
+
+int delight_region(const Eigen::Vector3d& a, const DelightConfig& config) {
+  if (config.mode == Mode::Reference) {
+    // The authors' code compares single-precision copies of the coordinates and the norm.
+    const float x = a(0), y = a(1), z = a(2), d = a.norm();
+    return 8 * (d > config.inner_radius_m) + 4 * (z > 0) + 2 * (y > 0) + (x > 0);
+  }
+  return 8 * (a.norm() > config.inner_radius_m) + 4 * (a(2) > 0) + 2 * (a(1) > 0) + (a(0) > 0);
+}
+
+Signature delight_of_aligned(const Cloud& aligned, const DelightConfig& config) {
+  Signature hist = Signature::Zero(16, config.intensity_bins);
+  for (const PointI& q : aligned) {
+    const int bin = std::clamp(static_cast<int>(q.intensity), 0, config.intensity_bins - 1);
+    hist(delight_region(q.p, config), bin) += 1;
+  }
+  return hist;
+}
+
+Signature delight_signature(const Cloud& scan, const DelightConfig& config) {
+  return delight_of_aligned(pca_align(scan, config.mode), config);
+}
+
+}  // namespace loopscan

@@ -1,0 +1,30 @@
+#include "loopscan/core/descriptors/describe.hpp"
+
+#include "loopscan/core/descriptors/delight.hpp"
+#include "loopscan/core/descriptors/m2dp.hpp"
+#include "loopscan/core/descriptors/scan_context.hpp"
+
+namespace loopscan {
+
+DescriptorConfig DescriptorConfig::for_mode(Mode mode, double range_m) {
+  DescriptorConfig c;
+  c.scan_context.mode = c.m2dp.mode = c.delight.mode = mode;
+  c.scan_context.max_radius_m = c.m2dp.max_radius_m = range_m;
+  return c;
+}
+
+Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config,
+                   Eigen::Matrix3d* frame) {
+  if (frame) frame->setIdentity();
+  switch (method) {
+    case Method::ScanContext:
+      return scan_context_signature(scan, config.scan_context, frame);
+    case Method::M2dp:
+      return m2dp_signature(scan, config.m2dp);
+    case Method::Delight:
+      return delight_signature(scan, config.delight);
+  }
+  return {};
+}
+
+}  // namespace loopscan

@@ -1,0 +1,182 @@
+#include "loopscan/core/descriptors/m2dp.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "loopscan/core/descriptors/gray_mean.hpp"
+#include "loopscan/core/descriptors/leading_singular.hpp"
+#include "loopscan/core/descriptors/m2dp_bins.hpp"
+#include "loopscan/core/descriptors/pca_align.hpp"
+
+namespace loopscan {
+namespace {
+
+// Polar bin of a projected point; -1 if rejected. Default mode: sector by comparing against
+// the boundary rays (no atan2), the +pi ray folded onto sector 0 instead of leaking.
+struct PolarBinner {
+  int sectors, rings;
+  double sector_inv, ring_inv;
+  bool reference;
+  Eigen::VectorXd ray_cos, ray_sin;  // boundary rays inside one quadrant
+
+  explicit PolarBinner(const M2dpConfig& c)
+      : sectors(c.azimuth_bins),
+        rings(c.radial_bins),
+        sector_inv(c.azimuth_bins / (2.0 * M_PI)),
+        ring_inv(c.radial_bins / c.max_radius_m),
+        reference(c.mode == Mode::Reference) {
+    const int per_quadrant = sectors % 4 == 0 ? sectors / 4 : 0;
+    ray_cos.resize(std::max(per_quadrant - 1, 0));
+    ray_sin.resize(ray_cos.size());
+    for (Eigen::Index j = 0; j < ray_cos.size(); ++j) {
+      const double a = (j + 1) * 2.0 * M_PI / sectors;
+      ray_cos(j) = std::cos(a);
+      ray_sin(j) = std::sin(a);
+    }
+  }
+
+  int sector_of(double x, double y) const {
+    if (reference || sectors % 4 != 0) {
+      const int s = static_cast<int>(std::floor((std::atan2(y, x) + M_PI) * sector_inv));
+      return reference ? s : s % sectors;
+    }
+    // atan2(y, x) + pi is the angle of (-x, -y) in [0, 2 pi): find its quadrant, rotate it
+    // into the first one, count the boundary rays it has passed.
+    const double X = -x, Y = -y;
+    int quadrant;
+    double u, v;
+    if (X > 0 && Y >= 0) {
+      quadrant = 0;
+      u = X;
+      v = Y;
+    } else if (X <= 0 && Y > 0) {
+      quadrant = 1;
+      u = Y;
+      v = -X;
+    } else if (X < 0 && Y <= 0) {
+      quadrant = 2;
+      u = -X;
+      v = -Y;
+    } else {
+      quadrant = 3;
+      u = -Y;
+      v = X;
+    }
+    int sub = 0;
+    for (Eigen::Index j = 0; j < ray_cos.size(); ++j) sub += v * ray_cos(j) >= u * ray_sin(j);
+    return quadrant * (sectors / 4) + sub;
+  }
+
+  int bin_of(double x, double y) const {
+    const int ring = static_cast<int>(std::floor(std::sqrt(x * x + y * y) * ring_inv));
+    if (!reference && ring >= rings) return -1;
+    const int idx = ring * sectors + sector_of(x, y);
+    return idx < rings * sectors ? idx : -1;
+  }
+};
+
+Eigen::RowVectorXd compressed(const Eigen::MatrixXd& m, Mode mode) {
+  const SingularPair pair = leading_singular_pair(m, mode);
+  Eigen::RowVectorXd out(pair.u.size() + pair.v.size());
+  out << pair.u.transpose(), pair.v.transpose();
+  return out;
+}
+
+}  // namespace
+
+void m2dp_plane_axes(const M2dpConfig& c, Eigen::Matrix3Xd& x_axes, Eigen::Matrix3Xd& y_axes) {
+  const int np = c.plane_azimuths, nq = c.plane_elevations;
+  x_axes.resize(3, np * nq);
+  y_axes.resize(3, np * nq);
+  for (int p = 0; p < np; ++p) {
+    for (int q = 0; q < nq; ++q) {
+      Eigen::Vector3d n;
+      if (c.mode == Mode::Reference) {
+        const float azimuth = -M_PI / 2.0 + (M_PI / np) * p;
+        const float elevation = (M_PI / 2.0 / nq) * q;
+        n << std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+            std::sin(elevation);
+      } else {
+        const double azimuth = -M_PI / 2.0 + (M_PI / np) * p;
+        const double elevation = (M_PI / 2.0 / nq) * q;
+        n << std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+            std::sin(elevation);
+      }
+      // Projection of e_x on the plane, deliberately not re-normalised (as in the paper's code).
+      const Eigen::Vector3d x_axis = Eigen::Vector3d::UnitX() - n.x() * n;
+      x_axes.col(p * nq + q) = x_axis;
+      y_axes.col(p * nq + q) = n.cross(x_axis);
+    }
+  }
+}
+
+M2dpMatrices m2dp_matrices(const Cloud& aligned, const M2dpConfig& config) {
+  Eigen::Matrix3Xd x_axes, y_axes;
+  m2dp_plane_axes(config, x_axes, y_axes);
+  const Eigen::Index planes = x_axes.cols(), bins = config.azimuth_bins * config.radial_bins;
+  // Row-major accumulators (plane-major), copied into the Eigen matrices at the end.
+  std::vector<double> count(planes * bins, 0.0), gray(planes * bins, 0.0);
+  const M2dpBinner fast(config.azimuth_bins, config.radial_bins, config.max_radius_m);
+  if (config.mode == Mode::Default && fast.usable()) {
+    thread_local PlanarCloud soa;
+    const std::size_t padded = (aligned.size() + 15) / 16 * 16;
+    soa.x.assign(padded, 1e30f);  // padding lands beyond the last ring
+    soa.y.assign(padded, 0.f);
+    soa.z.assign(padded, 0.f);
+    soa.gray.assign(padded, 0.f);
+    for (std::size_t i = 0; i < aligned.size(); ++i) {
+      soa.x[i] = static_cast<float>(aligned[i].p(0));
+      soa.y[i] = static_cast<float>(aligned[i].p(1));
+      soa.z[i] = static_cast<float>(aligned[i].p(2));
+      soa.gray[i] = aligned[i].intensity;
+    }
+    for (Eigen::Index k = 0; k < planes; ++k) {
+      fast.accumulate(soa, x_axes.col(k), y_axes.col(k), &count[k * bins], &gray[k * bins]);
+    }
+  } else {
+    const PolarBinner binner(config);
+    for (Eigen::Index k = 0; k < planes; ++k) {
+      const Eigen::Vector3d xa = x_axes.col(k), ya = y_axes.col(k);
+      for (const PointI& q : aligned) {
+        const int i = binner.bin_of(xa.dot(q.p), ya.dot(q.p));
+        if (i < 0) continue;
+        count[k * bins + i] += 1;
+        gray[k * bins + i] += q.intensity;
+      }
+    }
+  }
+  M2dpMatrices m{Eigen::MatrixXd(planes, bins), Eigen::MatrixXd(planes, bins)};
+  const double mean = cloud_gray_mean(aligned, config.mode);
+  for (Eigen::Index k = 0; k < planes; ++k) {
+    for (Eigen::Index b = 0; b < bins; ++b) {
+      const double c = count[k * bins + b], g = gray[k * bins + b];
+      m.count(k, b) = c;
+      m.gray(k, b) = c > 0 ? (g / c > mean ? 1.0 : 0.0) : 0.0;
+    }
+  }
+  return m;
+}
+
+Signature m2dp_signature(const Cloud& scan, const M2dpConfig& config) {
+  const int planes = config.plane_azimuths * config.plane_elevations;
+  const int half = planes + config.azimuth_bins * config.radial_bins;
+  Signature sig = Signature::Zero(4, 2 * half);
+  const Cloud aligned = pca_align(scan, config.mode);
+  Cloud flipped(aligned.size());
+  int row = 0;
+  for (int sx = -1; sx <= 1; sx += 2) {
+    for (int sy = -1; sy <= 1; sy += 2) {
+      for (std::size_t i = 0; i < aligned.size(); ++i) {
+        const Eigen::Vector3d& a = aligned[i].p;
+        flipped[i] = {{sx * a(0), sy * a(1), (sx * sy) * a(2)}, aligned[i].intensity};
+      }
+      const M2dpMatrices m = m2dp_matrices(flipped, config);
+      sig.row(row).head(half) = compressed(m.count, config.mode);
+      sig.row(row).tail(half) = compressed(m.gray, config.mode);
+      ++row;
+    }
+  }
+  return sig;
+}
+
+}  // namespace loopscan

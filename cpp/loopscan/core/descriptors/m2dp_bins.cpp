@@ -1,0 +1,111 @@
+#include "loopscan/core/descriptors/m2dp_bins.hpp"
+
+#include <cmath>
+
+#include "loopscan/core/simd.hpp"
+
+namespace loopscan {
+namespace {
+
+// Lane-wise select; comparisons of GCC vectors give -1 (true) / 0 masks.
+template <typename Vec, typename VecI>
+LOOPSCAN_INLINE Vec select(VecI mask, Vec a, Vec b) {
+  return (Vec)((mask & (VecI)a) | (~mask & (VecI)b));  // vector casts reinterpret the bits
+}
+
+}  // namespace
+
+M2dpBinner::M2dpBinner(int sectors, int rings, double max_radius_m)
+    : sectors_(sectors), rings_(rings), max_radius_(max_radius_m) {
+  while ((1 << shift_) < sectors) ++shift_;
+  for (int j = 1; j < sectors / 4; ++j) {
+    const double a = j * 2.0 * M_PI / sectors;
+    ray_cos_.push_back(static_cast<float>(std::cos(a)));
+    ray_sin_.push_back(static_cast<float>(std::sin(a)));
+  }
+}
+
+namespace {
+
+// The kernel, unrolled for a fixed number of boundary rays per quadrant.
+template <int kRays, int W>
+LOOPSCAN_INLINE void bin_kernel(const PlanarCloud& c, const float (&axes)[6], float ring_inv,
+                                int rings, int sector_shift, const float* ray_cos,
+                                const float* ray_sin, const float* gray, double* count_row,
+                                double* gray_row) {
+  using Vec = typename simd::Vec<float, W>::type;
+  using VecI = typename simd::Vec<int, W>::type;
+  constexpr int kLanes = simd::Vec<float, W>::kLanes;
+  constexpr int per_quadrant = kRays + 1;
+  for (std::size_t i = 0; i < c.x.size(); i += kLanes) {
+    const Vec px = simd::load<Vec>(&c.x[i]), py = simd::load<Vec>(&c.y[i]),
+              pz = simd::load<Vec>(&c.z[i]);
+    const Vec xp = axes[0] * px + axes[1] * py + axes[2] * pz;
+    const Vec yp = axes[3] * px + axes[4] * py + axes[5] * pz;
+    const Vec r2 = xp * xp + yp * yp;
+    Vec rf;
+    for (int l = 0; l < kLanes; ++l) rf[l] = __builtin_sqrtf(r2[l]);  // becomes one sqrtps
+    rf *= ring_inv;  // may exceed int range: clamped before the conversion
+    const VecI ring = __builtin_convertvector(rf < float(rings) ? rf : Vec{} + float(rings), VecI);
+    // atan2(y, x) + pi is the angle of (-x, -y): fold it into [0, pi) then [0, pi/2).
+    Vec u = -xp, v = -yp;
+    const VecI lower = (v < 0) | ((v == 0) & (u < 0));
+    u = select(lower, -u, u);
+    v = select(lower, -v, v);
+    const VecI second = (u <= 0) & (v > 0);
+    const Vec u2 = select(second, v, u), v2 = select(second, -u, v);
+    VecI sector = ((lower & 2) + (second & 1)) * per_quadrant;
+    for (int j = 0; j < kRays; ++j) sector -= (v2 * ray_cos[j] >= u2 * ray_sin[j]);  // -1 masks
+    const VecI valid = ring < rings;
+    const VecI out = (valid & ((ring << sector_shift) + sector)) | ~valid;  // -1 beyond range
+    // Scatter straight from the register: no round trip through a bin array.
+    for (int l = 0; l < kLanes; ++l) {
+      const int b = out[l];
+      if (b < 0) continue;
+      count_row[b] += 1.0;
+      gray_row[b] += gray[i + l];
+    }
+  }
+}
+
+template <int W>
+LOOPSCAN_INLINE void dispatch_rays(std::size_t rays, const PlanarCloud& c, const float (&axes)[6],
+                                   float ring_inv, int rings, int shift, const float* rc,
+                                   const float* rs, const float* g, double* cr, double* gr) {
+  switch (rays) {
+    case 1:
+      return bin_kernel<1, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    case 3:
+      return bin_kernel<3, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    case 7:
+      return bin_kernel<7, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+    default:
+      return bin_kernel<0, W>(c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+  }
+}
+
+void kernel_base(std::size_t rays, const PlanarCloud& c, const float (&axes)[6], float ring_inv,
+                 int rings, int shift, const float* rc, const float* rs, const float* g, double* cr,
+                 double* gr) {
+  dispatch_rays<16>(rays, c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+}
+
+LOOPSCAN_AVX2 void kernel_avx2(std::size_t rays, const PlanarCloud& c, const float (&axes)[6],
+                               float ring_inv, int rings, int shift, const float* rc,
+                               const float* rs, const float* g, double* cr, double* gr) {
+  dispatch_rays<32>(rays, c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
+}
+
+}  // namespace
+
+void M2dpBinner::accumulate(const PlanarCloud& c, const Eigen::Vector3d& xa,
+                            const Eigen::Vector3d& ya, double* count_row, double* gray_row) const {
+  const float axes[6] = {float(xa(0)), float(xa(1)), float(xa(2)),
+                         float(ya(0)), float(ya(1)), float(ya(2))};
+  const float ring_inv = static_cast<float>(rings_ / max_radius_);
+  auto* kernel = simd::has_avx2() ? kernel_avx2 : kernel_base;
+  kernel(ray_cos_.size(), c, axes, ring_inv, rings_, shift_, ray_cos_.data(), ray_sin_.data(),
+         c.gray.data(), count_row, gray_row);
+}
+
+}  // namespace loopscan

@@ -1,0 +1,66 @@
+#include "loopscan/core/descriptors/pca_align.hpp"
+
+#include <Eigen/Eigenvalues>
+
+namespace loopscan {
+namespace {
+
+Cloud pca_align_reference(const Cloud& cloud, Eigen::Matrix3d* to_aligned) {
+  const Eigen::Index n = static_cast<Eigen::Index>(cloud.size());
+  double mx = 0, my = 0, mz = 0;
+  for (const PointI& q : cloud) {
+    mx += q.p(0);
+    my += q.p(1);
+    mz += q.p(2);
+  }
+  mx /= n;
+  my /= n;
+  mz /= n;
+  Eigen::MatrixXd centered(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    centered(i, 0) = cloud[i].p(0) - mx;
+    centered(i, 1) = cloud[i].p(1) - my;
+    centered(i, 2) = cloud[i].p(2) - mz;
+  }
+  const Eigen::MatrixXd scatter = centered.transpose() * centered;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(scatter);
+  if (to_aligned) *to_aligned = solver.eigenvectors().transpose();
+  const Eigen::VectorXd a0 = centered * solver.eigenvectors().col(0);
+  const Eigen::VectorXd a1 = centered * solver.eigenvectors().col(1);
+  const Eigen::VectorXd a2 = centered * solver.eigenvectors().col(2);
+  Cloud out(cloud.size());
+  for (Eigen::Index i = 0; i < n; ++i) out[i] = {{a0(i), a1(i), a2(i)}, cloud[i].intensity};
+  return out;
+}
+
+Cloud pca_align_default(const Cloud& cloud, Eigen::Matrix3d* frame) {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const PointI& q : cloud) centroid += q.p;
+  centroid /= static_cast<double>(cloud.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const PointI& q : cloud) {
+    const Eigen::Vector3d d = q.p - centroid;
+    scatter.noalias() += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+  Eigen::Matrix3d basis = solver.eigenvectors();
+  if (basis.determinant() < 0) basis.col(0) = -basis.col(0);
+  const Eigen::Matrix3d to_aligned = basis.transpose();
+  if (frame) *frame = to_aligned;
+  Cloud out(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    out[i] = {to_aligned * (cloud[i].p - centroid), cloud[i].intensity};
+  }
+  return out;
+}
+
+}  // namespace
+
+Cloud pca_align(const Cloud& cloud, Mode mode, Eigen::Matrix3d* to_aligned) {
+  if (to_aligned) to_aligned->setIdentity();
+  if (cloud.empty()) return {};
+  return mode == Mode::Reference ? pca_align_reference(cloud, to_aligned)
+                                 : pca_align_default(cloud, to_aligned);
+}
+
+}  // namespace loopscan

@@ -1,0 +1,179 @@
+// Scan Context rows through the correlation theorem: the best dot product over all sector
+// shifts (and over the mirrored sector order: a convolution) is read from an inverse DFT of a
+// single ring-summed cross spectrum, so a pair costs O(R S + S^2 / 2) instead of O(R S^2).
+// Double precision (reference mode): database places interleaved, one per vector lane. Float:
+// the place database's packed-spectra pair kernel (scan_context_spectra.hpp).
+#include <cmath>
+
+#include "loopscan/core/matching/place_matcher.hpp"
+#include "loopscan/core/matching/scan_context_kernel.hpp"
+#include "loopscan/core/matching/scan_context_spectra.hpp"
+
+namespace loopscan {
+namespace {
+
+template <typename T>
+void kernel_base(const ScanContextKernelArgs& a, const T* qre, const T* qim, const T* block,
+                 T* best) {
+  scan_context_best_dot<T, 16>(a, qre, qim, block, best);
+}
+
+template <typename T>
+LOOPSCAN_AVX2 void kernel_avx2(const ScanContextKernelArgs& a, const T* qre, const T* qim,
+                               const T* block, T* best) {
+  scan_context_best_dot<T, 32>(a, qre, qim, block, best);
+}
+
+template <typename T>
+class ScanContextMatcher final : public PlaceMatcher {
+  static constexpr int kL = simd::kChunkLanes<T>;
+
+ public:
+  explicit ScanContextMatcher(const ScanContextConfig& c)
+      : rings_(c.rings), sectors_(c.sectors), bins_(c.sectors / 2 + 1) {
+    const int S = sectors_, K = bins_;
+    fwd_cos_.resize(K * S);
+    fwd_sin_.resize(K * S);
+    for (int k = 0; k < K; ++k) {
+      for (int s = 0; s < S; ++s) {
+        const double a = 2.0 * M_PI * ((static_cast<long>(k) * s) % S) / S;
+        fwd_cos_[k * S + s] = std::cos(a);
+        fwd_sin_[k * S + s] = -std::sin(a);
+      }
+    }
+    // c_m = sum_k w_k (Re P_k cos(2 pi k m / S) - Im P_k sin(...)) / S, w = 1 at k = 0, S/2.
+    inv_cos_.resize((S / 2 + 1) * K);
+    inv_sin_.resize((S / 2 + 1) * K);
+    for (int m = 0; m <= S / 2; ++m) {
+      for (int k = 0; k < K; ++k) {
+        const double w = (k == 0 || 2 * k == S) ? 1.0 : 2.0;
+        const double a = 2.0 * M_PI * ((static_cast<long>(k) * m) % S) / S;
+        inv_cos_[m * K + k] = static_cast<T>(w * std::cos(a) / S);
+        inv_sin_[m * K + k] = static_cast<T>(-w * std::sin(a) / S);
+      }
+    }
+    args_ = {rings_, bins_, sectors_, inv_cos_.data(), inv_sin_.data()};
+    kernel_ = simd::has_avx2() ? kernel_avx2<T> : kernel_base<T>;
+  }
+
+  void add(const Signature& place) override {
+    if (n_ % kL == 0) blocks_.resize(blocks_.size() + block_size(), T(0));
+    T* block = &blocks_[(n_ / kL) * block_size()];
+    const int lane = static_cast<int>(n_ % kL);
+    std::vector<T> re, im;
+    for (int c = 0; c < 2; ++c) {
+      spectrum(place, c, re, im);
+      T* part = block + static_cast<std::size_t>(c) * rings_ * bins_ * 2 * kL;
+      for (int i = 0; i < rings_ * bins_; ++i) {
+        part[(2 * i) * kL + lane] = re[i];
+        part[(2 * i + 1) * kL + lane] = im[i];
+      }
+    }
+    ++n_;
+  }
+
+  std::size_t size() const override { return n_; }
+  int components() const override { return 2; }
+
+  void distances(const Signature& query, Eigen::MatrixXd& rows) const override {
+    rows.resize(2, static_cast<Eigen::Index>(n_));
+    std::vector<T> qre, qim;
+    alignas(32) T best[kL];
+    for (int c = 0; c < 2; ++c) {
+      spectrum(query, c, qre, qim);
+      for (std::size_t b = 0; b * kL < n_; ++b) {
+        const T* part =
+            &blocks_[b * block_size() + static_cast<std::size_t>(c) * rings_ * bins_ * 2 * kL];
+        kernel_(args_, qre.data(), qim.data(), part, best);
+        for (int lane = 0; lane < kL && b * kL + lane < n_; ++lane) {
+          rows(c, static_cast<Eigen::Index>(b * kL + lane)) = (1.0 - double(best[lane])) / 2.0;
+        }
+      }
+    }
+  }
+
+ private:
+  std::size_t block_size() const { return static_cast<std::size_t>(2 * rings_ * bins_ * 2 * kL); }
+
+  // DFT along sectors of each ring of one L2-normalised half (a zero half stays zero).
+  void spectrum(const Signature& place, int c, std::vector<T>& re, std::vector<T>& im) const {
+    const int R = rings_, S = sectors_, K = bins_;
+    const Eigen::Index stride = place.rows();
+    const double* x = place.data() + static_cast<Eigen::Index>(c) * R * S * stride;
+    double norm2 = 0;
+    for (int i = 0; i < R * S; ++i) norm2 += x[i * stride] * x[i * stride];
+    const double scale = norm2 > 0 ? 1.0 / std::sqrt(norm2) : 0.0;
+    re.assign(R * K, T(0));
+    im.assign(R * K, T(0));
+    std::vector<double> ring(S);
+    for (int r = 0; r < R; ++r) {
+      bool any = false;
+      for (int s = 0; s < S; ++s) {
+        ring[s] = x[(s * R + r) * stride] * scale;
+        any = any || ring[s] != 0.0;
+      }
+      if (!any) continue;
+      for (int k = 0; k < K; ++k) {
+        double sr = 0, si = 0;
+        for (int s = 0; s < S; ++s) {
+          sr += ring[s] * fwd_cos_[k * S + s];
+          si += ring[s] * fwd_sin_[k * S + s];
+        }
+        re[r * K + k] = static_cast<T>(sr);
+        im[r * K + k] = static_cast<T>(si);
+      }
+    }
+  }
+
+  int rings_, sectors_, bins_;
+  std::size_t n_ = 0;
+  std::vector<double> fwd_cos_, fwd_sin_;
+  std::vector<T> inv_cos_, inv_sin_;
+  ScanContextKernelArgs args_{};
+  void (*kernel_)(const ScanContextKernelArgs&, const T*, const T*, const T*, T*) = nullptr;
+  std::vector<T> blocks_;  // per block of kL places: [component][ring][bin] {re, im} chunks
+};
+
+// Single precision with an even sector count: the place database's packed-spectra pair
+// kernel (scan_context_spectra.hpp), one place after the other.
+class PackedScanContextMatcher final : public PlaceMatcher {
+ public:
+  explicit PackedScanContextMatcher(const ScanContextConfig& c)
+      : spectra_(c), arena_(static_cast<std::size_t>(spectra_.floats_per_place())) {}
+
+  void add(const Signature& place) override {
+    std::vector<float> packed(arena_.floats_per_record());
+    spectra_.pack(place, packed.data());
+    arena_.append(packed.data());
+  }
+  std::size_t size() const override { return arena_.size(); }
+  int components() const override { return 2; }
+
+  void distances(const Signature& query, Eigen::MatrixXd& rows) const override {
+    rows.resize(2, static_cast<Eigen::Index>(arena_.size()));
+    const ScanContextSpectra::Query q = spectra_.prepare(query);
+    float best[2];
+    for (std::size_t j = 0; j < arena_.size(); ++j) {
+      spectra_.best_dots(q, arena_.at(j), best);
+      rows(0, static_cast<Eigen::Index>(j)) = (1.0 - double(best[0])) / 2.0;
+      rows(1, static_cast<Eigen::Index>(j)) = (1.0 - double(best[1])) / 2.0;
+    }
+  }
+
+ private:
+  ScanContextSpectra spectra_;
+  PayloadArena arena_;
+};
+
+}  // namespace
+
+std::unique_ptr<PlaceMatcher> make_scan_context_matcher(Precision precision,
+                                                        const ScanContextConfig& config) {
+  // The packed kernel needs an even sector count; odd counts (unusual) take the double path.
+  if (precision == Precision::Float && config.sectors % 2 == 0) {
+    return std::make_unique<PackedScanContextMatcher>(config);
+  }
+  return std::make_unique<ScanContextMatcher<double>>(config);
+}
+
+}  // namespace loopscan

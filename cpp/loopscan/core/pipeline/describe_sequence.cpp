@@ -1,0 +1,112 @@
+#include "loopscan/core/pipeline/describe_sequence.hpp"
+
+#include "loopscan/core/parallel.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace loopscan {
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Eigen::Vector3d camera_center(const KeyframePose& k) {
+  const auto R = k.T_cam_world.leftCols<3>();
+  return -R.transpose() * k.T_cam_world.col(3);
+}
+
+}  // namespace
+
+SequenceOptions SequenceOptions::make(Method method, Mode mode, double range_m) {
+  SequenceOptions o;
+  o.method = method;
+  o.imitation.mode = mode;
+  o.imitation.range_m = range_m;
+  o.descriptors = DescriptorConfig::for_mode(mode, range_m);
+  return o;
+}
+
+namespace {
+
+// Describes scans[i] into out[i], on `threads` threads; returns the summed milliseconds.
+double describe_batch(const std::vector<Cloud>& scans, const SequenceOptions& options,
+                      std::vector<Signature>& out, std::vector<Eigen::Matrix3d>& frames) {
+  const int threads = std::max(1, std::min<int>(options.threads, static_cast<int>(scans.size())));
+  std::vector<double> ms(threads, 0.0);
+  auto work = [&](int t) {
+    for (std::size_t i = t; i < scans.size(); i += threads) {
+      const auto t0 = std::chrono::steady_clock::now();
+      out[i] = describe(options.method, scans[i], options.descriptors, &frames[i]);
+      ms[t] += ms_since(t0);
+    }
+  };
+  run_on_threads(threads, work);
+  double total = 0;
+  for (double m : ms) total += m;
+  return total;
+}
+
+}  // namespace
+
+SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
+                                     const std::vector<IdPoint>& points,
+                                     const SequenceOptions& options) {
+  SequenceSignatures out;
+  ScanImitator imitator(options.imitation);
+  const ScanFilter filter = filter_for(options.method);
+  std::vector<int> resets = options.reset_ids;
+  std::sort(resets.begin(), resets.end());
+  std::vector<Cloud> batch;  // scans waiting for their description
+  const std::size_t batch_size = options.threads > 1 ? 16 * options.threads : 1;
+  auto flush = [&] {
+    std::vector<Signature> sigs(batch.size());
+    std::vector<Eigen::Matrix3d> frames(batch.size());
+    out.describe_ms += describe_batch(batch, options, sigs, frames);
+    for (Signature& s : sigs) out.signatures.push_back(std::move(s));
+    out.frames.insert(out.frames.end(), frames.begin(), frames.end());
+    batch.clear();
+  };
+  std::size_t next_point = 0;
+  for (const KeyframePose& keyframe : poses) {
+    const std::size_t first = next_point;
+    while (next_point < points.size() && points[next_point].id <= keyframe.id) ++next_point;
+    const bool reset = std::binary_search(resets.begin(), resets.end(), keyframe.id);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    std::size_t n_in_range = 0;
+    Cloud scan;
+    if (!imitator.next_scan(keyframe, points.data() + first, next_point - first, reset, filter,
+                            scan, &n_in_range)) {
+      continue;
+    }
+    batch.push_back(std::move(scan));
+    out.imitate_ms += ms_since(t0);
+    out.keyframe_ids.push_back(keyframe.id);
+    out.mean_in_range += static_cast<double>(n_in_range);
+    out.mean_filtered += static_cast<double>(batch.back().size());
+    if (batch.size() >= batch_size) flush();
+  }
+  flush();
+  if (const double n = static_cast<double>(out.signatures.size()); n > 0) {
+    out.imitate_ms /= n;
+    out.describe_ms /= n;
+    out.mean_in_range /= n;
+    out.mean_filtered /= n;
+  }
+  return out;
+}
+
+std::vector<int> detect_vo_resets(const std::vector<KeyframePose>& poses, double jump_m) {
+  std::vector<int> resets;
+  for (std::size_t i = 1; i < poses.size(); ++i) {
+    const Eigen::Vector3d c = camera_center(poses[i]);
+    if (c.norm() < 1.0 && (c - camera_center(poses[i - 1])).norm() > jump_m) {
+      resets.push_back(poses[i].id);
+    }
+  }
+  return resets;
+}
+
+}  // namespace loopscan

@@ -1,0 +1,50 @@
+#pragma once
+// Streaming place recognition: feed keyframes and their points as the VO exports them; each
+// keyframe that gets an imitated scan is described, queried against the map so far and then
+// added to it. Loop candidates come back as soon as they exist.
+#include <vector>
+
+#include "loopscan/core/database/database.hpp"
+#include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/scan/scan_imitator.hpp"
+
+namespace loopscan {
+
+struct RecognizerConfig {
+  Method method = Method::ScanContext;
+  ImitationConfig imitation;
+  DescriptorConfig descriptors;
+  DatabaseConfig database;
+  QueryOptions query;  // default: skip the 99 places added last (the paper's 100-place mask)
+  int k = 1;
+  int session = 0;  // session of the places this recognizer adds
+  // Consistent settings for a method and mode (the paper: 45 m).
+  static RecognizerConfig make(Method method, Mode mode = Mode::Default, double range_m = 45.0);
+};
+
+struct KeyframeResult {
+  bool described = false;          // the keyframe got a scan (and joined the map)
+  std::vector<Candidate> matches;  // best first; empty when none passed the query options
+};
+
+class Recognizer {
+ public:
+  explicit Recognizer(const RecognizerConfig& config);
+  // Continues an existing map (another session's, e.g. loaded from disk).
+  Recognizer(const RecognizerConfig& config, Database map);
+
+  // points: those the VO exported with this keyframe (world frame); reset: the VO restarted.
+  KeyframeResult add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
+                              std::size_t n_points, bool reset = false);
+
+  const Database& database() const { return db_; }
+  Database& database() { return db_; }
+  const RecognizerConfig& config() const { return config_; }
+
+ private:
+  RecognizerConfig config_;
+  ScanImitator imitator_;
+  Database db_;
+};
+
+}  // namespace loopscan

@@ -1,0 +1,63 @@
+#pragma once
+// Imitates an omnidirectional LiDAR scan around each keyframe from the points a stereo VO
+// exported so far (paper Sec. III-A): a local map of world points, cropped to the range.
+#include <cstddef>
+#include <vector>
+
+#include "loopscan/core/scan/camera_points.hpp"
+#include "loopscan/core/config.hpp"
+
+namespace loopscan {
+
+class ScanImitator {
+ public:
+  explicit ScanImitator(const ImitationConfig& config = {});
+
+  // Processes one keyframe and the points exported with it (world frame). Returns true when
+  // the keyframe gets a scan; `in_range` then holds every local point within range, in the
+  // camera frame, unfiltered. `reset` is the VO's reset signal (ignored in reference mode,
+  // which detects resets itself as |t| < 1 m like the authors' code).
+  bool add_keyframe(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
+                    bool reset, Cloud& in_range);
+
+  // The same step with the in-range points in single-precision SoA layout, for
+  // filter_camera_points (the default-mode fast path).
+  bool add_keyframe(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
+                    bool reset, CameraPoints& in_range);
+
+  // add_keyframe plus the descriptor's filter, through the mode's path (reference: double and
+  // the authors' filters; default: the single-precision vectorised path): the filtered scan
+  // the keyframe gets, or false. `in_range_count` (optional): points before filtering.
+  bool next_scan(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
+                 bool reset, ScanFilter filter, Cloud& scan, std::size_t* in_range_count = nullptr);
+
+  // Forgets the local map; the next `init_frames` keyframes get no scan.
+  void reset();
+
+  std::size_t local_map_size() const {
+    return config_.mode == Mode::Reference ? local_.size() : world_.size();
+  }
+  const ImitationConfig& config() const { return config_; }
+
+ private:
+  // Steps 1-3 of add_keyframe; true when the keyframe gets a scan.
+  bool accumulate(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
+                  bool reset);
+
+  ImitationConfig config_;
+  // Step 4, crop: out-of-range points leave the map for good. Reference mode in double with
+  // the authors' arithmetic; default mode in float SoA.
+  void crop_reference(const KeyframePose& keyframe, Cloud& in_range);
+  void crop_fast(const KeyframePose& keyframe, CameraPoints& in_range);
+
+  std::vector<PointI> local_;   // reference mode: world frame, double (the authors' arithmetic)
+  CameraPoints world_;          // default mode: world frame, float SoA (4x less memory traffic)
+  Cloud in_range_;              // next_scan's scratch, reference mode
+  CameraPoints in_range_fast_;  // next_scan's scratch, default mode
+  int frames_since_reset_ = 0;
+};
+
+// Applies the configured de-duplicating filter to an in-range cloud.
+Cloud filter_scan(const Cloud& in_range, ScanFilter filter, const ImitationConfig& config);
+
+}  // namespace loopscan
