@@ -1,7 +1,7 @@
 // Stereo rendering of the synthetic world and the PNG files it writes.
 #include <gtest/gtest.h>
 
-#include "rendered_street.hpp"
+#include "support/rendered_street.hpp"
 #include <zlib.h>
 
 #include <algorithm>

@@ -8,7 +8,7 @@
 #include "loopscan/core/matching/fusion.hpp"
 #include "loopscan/core/matching/pair_distance.hpp"
 #include "loopscan/core/matching/place_matcher.hpp"
-#include "test_support.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan {
 namespace {

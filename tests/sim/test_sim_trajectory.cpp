@@ -10,7 +10,7 @@
 
 #include "loopscan/sim/camera.hpp"
 #include "loopscan/sim/trajectory.hpp"
-#include "test_support.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan::sim {
 namespace {

@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "rendered_street.hpp"
+#include "support/rendered_street.hpp"
 
 #include "loopscan/baselines/gist.hpp"
 #include "loopscan/baselines/inverted_index.hpp"

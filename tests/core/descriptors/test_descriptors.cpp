@@ -10,7 +10,7 @@
 #include "loopscan/core/descriptors/m2dp.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
 #include "loopscan/core/descriptors/scan_context.hpp"
-#include "test_support.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan {
 namespace {

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "rendered_street.hpp"
+#include "support/rendered_street.hpp"
 
 #include "loopscan/eval/odometry_metrics.hpp"
 #include "loopscan/sim/renderer.hpp"

@@ -15,7 +15,7 @@
 #include "loopscan/core/database/key_index.hpp"
 #include "loopscan/core/matching/pair_distance.hpp"
 #include "loopscan/core/matching/scan_context_spectra.hpp"
-#include "test_support.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan {
 namespace {

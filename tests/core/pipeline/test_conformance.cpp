@@ -11,7 +11,7 @@
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/io/matrix_text.hpp"
 #include "loopscan/io/sodso.hpp"
-#include "test_support.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan {
 namespace {

@@ -9,7 +9,7 @@
 #include "loopscan/core/descriptors/fast_angle.hpp"
 #include "loopscan/core/scan/point_filter.hpp"
 #include "loopscan/core/scan/scan_imitator.hpp"
-#include "test_support.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan {
 namespace {

@@ -10,7 +10,7 @@
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/kitti_sequence.hpp"
 #include "loopscan/io/png.hpp"
-#include "test_support.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan {
 namespace {
