@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "evaluation_outputs.hpp"
 #include "loopscan/core/database/database.hpp"
 #include "loopscan/eval/precision_recall.hpp"
@@ -68,7 +69,7 @@ void run_build(const BuildArgs& a) {
   std::printf("%s database: %zu places, %.1f KB per place in memory -> %s\n",
               method_name(config.method).c_str(), db.size(),
               db.size() ? double(db.memory_bytes()) / double(db.size()) / 1000.0 : 0.0,
-              a.out.c_str());
+              shown(a.out).c_str());
 }
 
 void run_query(const QueryArgs& a) {
@@ -119,7 +120,7 @@ void run_query(const QueryArgs& a) {
   const double query_ms = queries.places.empty() ? 0.0 : total_ms / queries.places.size();
   std::printf("%zu queries against %zu places: %.3f ms per query (%s) -> %s/candidates.csv\n",
               queries.places.size(), db.size(), query_ms, a.exact ? "exact" : "indexed",
-              a.out.c_str());
+              shown(a.out).c_str());
   if (!with_gt) return;
 
   // Database positions: from the poses `db build --gt` stored.
@@ -173,7 +174,7 @@ void add_db_command(CLI::App& app) {
   build->add_option("--first-session", b->first_session, "session id of the first --signatures")
       ->capture_default_str();
   build->add_option("--out", b->out, "database file")->required();
-  build->callback([b] { run_build(*b); });
+  build->callback([b] { with_output_file(b->out, [&] { run_build(*b); }); });
 
   auto q = std::make_shared<QueryArgs>();
   CLI::App* query = db->add_subcommand("query", "Query a database with a described sequence");
@@ -198,7 +199,7 @@ void add_db_command(CLI::App& app) {
                    "evaluate's same-session protocol)")
       ->capture_default_str();
   query->add_option("--out", q->out, "output directory")->required();
-  query->callback([q] { run_query(*q); });
+  run_writing_dir(query, q, run_query);
 }
 
 }  // namespace loopscan::cli

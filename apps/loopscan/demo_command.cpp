@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "demo_figures.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
@@ -116,7 +117,7 @@ void run_demo(const DemoArgs& a) {
   std::printf("\n%zu / %zu keyframes, %.0f points per keyframe; finished in %.0f s -> %s\n",
               sessions[0].keyframe_ids.size(), sessions[1].keyframe_ids.size(),
               sessions[0].vo.mean_points_per_keyframe, seconds_since(t_start),
-              (a.out + "/report/index.html").c_str());
+              shown(a.out + "/report/index.html").c_str());
 }
 
 }  // namespace
@@ -129,7 +130,7 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--seed", args->seed, "world seed")->capture_default_str();
   cmd->add_option("--threads", args->threads, "threads for description and matching")
       ->capture_default_str();
-  cmd->callback([args] { run_demo(*args); });
+  run_writing_dir(cmd, args, run_demo);
 }
 
 }  // namespace loopscan::cli

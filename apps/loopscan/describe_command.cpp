@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/incoming_ids.hpp"
@@ -86,7 +87,7 @@ void run_describe(const DescribeArgs& a) {
       "%s (%s): %zu signatures from %zu keyframes; %.3f ms imitate + %.3f ms describe "
       "per keyframe -> %s\n",
       method_name(method).c_str(), mode_name(mode).c_str(), result.signatures.size(), poses.size(),
-      result.imitate_ms, result.describe_ms, a.out.c_str());
+      result.imitate_ms, result.describe_ms, shown(a.out).c_str());
 }
 
 }  // namespace
@@ -110,7 +111,7 @@ void add_describe_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--reset-ids", args->reset_ids,
                   "default mode: file of keyframe ids where the VO reset (else detected)");
-  cmd->callback([args] { run_describe(*args); });
+  run_writing_dir(cmd, args, run_describe);
 }
 
 }  // namespace loopscan::cli

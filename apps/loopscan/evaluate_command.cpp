@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "evaluation_outputs.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "image_commands.hpp"
@@ -74,7 +75,7 @@ void run_evaluate(const EvaluateArgs& a) {
       "%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, "
       "%.3f ms per query -> %s\n",
       title.c_str(), ev.pr.auc, ev.pr.recall_at_100_precision, ev.pr.f1_max, ev.pr.n_gt_loops,
-      ev.pr.n_queries, ev.query_ms, a.out.c_str());
+      ev.pr.n_queries, ev.query_ms, shown(a.out).c_str());
 }
 
 }  // namespace
@@ -96,7 +97,7 @@ void add_evaluate_command(CLI::App& app) {
   cmd->add_option("--threshold", args->threshold_m, "loop distance in m (10 same / 25 cross)");
   cmd->add_option("--mask", args->mask, "excluded index band |i-j| < mask (100 same / 0 cross)");
   cmd->add_option("--out", args->out, "output directory")->required();
-  cmd->callback([args] { run_evaluate(*args); });
+  run_writing_dir(cmd, args, run_evaluate);
 }
 
 }  // namespace loopscan::cli

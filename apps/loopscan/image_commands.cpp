@@ -15,6 +15,7 @@
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/io/matrix_text.hpp"
+#include "output_sets.hpp"
 #include "signature_set.hpp"
 
 namespace loopscan::cli {
@@ -97,7 +98,7 @@ void run_image_describe(const ImageDescribeArgs& a) {
                                  {"vocabulary", a.vocab}};
   io::write_file_atomic(a.out + "/timing.json", timing.dump(1) + "\n");
   std::printf("%s: %zu keyframes; %.2f ms extract + %.2f ms transform per image -> %s\n",
-              a.method.c_str(), ids.size(), d.extract_ms, d.transform_ms, a.out.c_str());
+              a.method.c_str(), ids.size(), d.extract_ms, d.transform_ms, shown(a.out).c_str());
 }
 
 void run_image_evaluate(const ImageEvaluateArgs& a) {
@@ -130,7 +131,7 @@ void run_image_evaluate(const ImageEvaluateArgs& a) {
   write_evaluation(a.out, queries.ids, db.ids, pr, metrics, a.method);
   std::printf("%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, %.3f ms per query -> %s\n",
               a.method.c_str(), pr.auc, pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops,
-              pr.n_queries, m.query_ms, a.out.c_str());
+              pr.n_queries, m.query_ms, shown(a.out).c_str());
 }
 
 }  // namespace loopscan::cli

@@ -3,9 +3,11 @@
 #include <stdexcept>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "loopscan/io/errors.hpp"
 
 int main(int argc, char** argv) {
+  loopscan::cli::set_command_line(argc, argv);
   CLI::App app{"loopscan: fast, robust place recognition for stereo visual odometry"};
   app.require_subcommand(1);
   loopscan::cli::add_describe_command(app);

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "loopscan/eval/pairwise.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/matrix_text.hpp"
@@ -45,7 +46,7 @@ void run_pairs(const PairsArgs& a) {
   io::write_file_atomic(a.out + "/pr.svg",
                         report::pr_curve_svg({report::pr_series(r.curve, "pairs")}, "pairs"));
   std::printf("F1-max %.10f (threshold %.6g), AP %.6f, %zu positives / %zu pairs -> %s\n", r.f1_max,
-              r.best_threshold, r.average_precision, r.n_positive, r.n_total, a.out.c_str());
+              r.best_threshold, r.average_precision, r.n_positive, r.n_total, shown(a.out).c_str());
 }
 
 }  // namespace
@@ -56,7 +57,7 @@ void add_pairs_command(CLI::App& app) {
   cmd->add_option("--scores", args->scores, "text file (or .gz): `score label` per line")
       ->required();
   cmd->add_option("--out", args->out, "output directory")->required();
-  cmd->callback([args] { run_pairs(*args); });
+  run_writing_dir(cmd, args, run_pairs);
 }
 
 }  // namespace loopscan::cli

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/png.hpp"
 #include "loopscan/io/vo_files.hpp"
@@ -79,7 +80,7 @@ void run_render(const RenderArgs& a) {
   io::write_file_atomic(a.out + "/times.txt", times.str());
   io::write_kitti_poses(a.out + "/poses.txt", poses);
   std::printf("%s, %s: %d stereo pairs of %dx%d -> %s\n", t.trajectory.name.c_str(),
-              a.season.c_str(), count, camera.width, camera.height, a.out.c_str());
+              a.season.c_str(), count, camera.width, camera.height, shown(a.out).c_str());
 }
 
 }  // namespace
@@ -101,7 +102,7 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--calib", a->calib, "ORB-SLAM2 KITTI yaml (default: KITTI 04-12 camera)");
   cmd->add_option("--threads", a->threads, "render threads")->capture_default_str();
   cmd->add_option("--out", a->out, "output directory")->required();
-  cmd->callback([a] { run_render(*a); });
+  run_writing_dir(cmd, a, run_render);
 }
 
 }  // namespace loopscan::cli

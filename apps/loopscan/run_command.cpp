@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "evaluation_outputs.hpp"
 #include "image_commands.hpp"
 #include "loopscan/baselines/baseline_matching.hpp"
@@ -242,7 +243,7 @@ void run_all(const RunArgs& a) {
     page.figures.push_back({"Precision-recall", report::pr_curve_svg(curves, "Precision-recall")});
   io::write_file_atomic(a.out + "/summary.json", summary.dump(1) + "\n");
   io::write_file_atomic(a.out + "/report.html", report::render_html(page));
-  std::printf("\n-> %s/report.html\n", a.out.c_str());
+  std::printf("\n-> %s/report.html\n", shown(a.out).c_str());
 }
 
 }  // namespace
@@ -259,9 +260,11 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--mode", a->mode, "reference | default")->capture_default_str();
   cmd->add_option("--threads", a->threads, "threads describing and matching")
       ->capture_default_str();
-  cmd->callback([a] {
-    a->out = a->vo.out;
-    run_all(*a);
+  cmd->callback([cmd, a] {
+    RunArgs args = *a;
+    args.out = args.vo.out;
+    refuse_inputs_inside(*cmd, args.out);
+    with_output_dir(args.out, [&] { run_all(args); });
   });
 }
 

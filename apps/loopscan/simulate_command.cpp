@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "loopscan/io/sodso.hpp"
 #include "simulation_setup.hpp"
 
@@ -16,7 +17,8 @@ struct SimulateArgs {
   std::vector<int> resets;
 };
 
-void run_simulate(SimulateArgs a) {
+void run_simulate(const SimulateArgs& args) {
+  SimulateArgs a = args;
   const LoadedTrajectory t = load_trajectory(a.trajectory);
   const std::vector<KeyframePose> vo_poses =
       a.vo_poses.empty() ? std::vector<KeyframePose>{} : io::read_sodso_poses(a.vo_poses);
@@ -37,7 +39,7 @@ void run_simulate(SimulateArgs a) {
   std::printf("%s, %s: %zu keyframes, %zu points (%.0f per keyframe), %zu world objects -> %s\n",
               t.trajectory.name.c_str(), a.season.c_str(), s.keyframe_ids.size(),
               s.vo.points.size(), s.vo.mean_points_per_keyframe, world.object_count(),
-              a.out.c_str());
+              shown(a.out).c_str());
 }
 
 }  // namespace
@@ -66,7 +68,7 @@ void add_simulate_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--resets", a->resets, "keyframe ids where the VO restarts")->delimiter(',');
   cmd->add_option("--out", a->out, "output directory")->required();
-  cmd->callback([a] { run_simulate(*a); });
+  run_writing_dir(cmd, a, run_simulate);
 }
 
 }  // namespace loopscan::cli

@@ -1,6 +1,7 @@
 // loopscan vo: stereo images (KITTI odometry layout) -> keyframe poses and DSO-like points in the
 // SO-DSO history format (so `describe` runs on them unchanged), the trajectory and its accuracy.
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "vo_outputs.hpp"
 
 namespace loopscan::cli {
@@ -10,7 +11,11 @@ void add_vo_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "vo", "Stereo VO on a KITTI-layout sequence -> SO-DSO history files, trajectory, metrics");
   add_vo_options(*cmd, *a);
-  cmd->callback([a] { run_vo_and_write(*a); });
+  cmd->callback([cmd, a] {
+    VoArgs args = *a;
+    refuse_inputs_inside(*cmd, args.out);
+    with_output_dir(args.out, [&] { run_vo_and_write(args); });
+  });
 }
 
 }  // namespace loopscan::cli

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "output_sets.hpp"
 #include "loopscan/baselines/describe_images.hpp"
 #include "loopscan/baselines/vocabulary_io.hpp"
 
@@ -42,7 +43,7 @@ void run_vocab_train(const VocabArgs& a) {
   } else {
     io::save_vocabulary(a.out, baselines::to_records(v));
   }
-  std::printf("%zu nodes, %zu words -> %s\n", v.nodes().size(), v.words(), a.out.c_str());
+  std::printf("%zu nodes, %zu words -> %s\n", v.nodes().size(), v.words(), shown(a.out).c_str());
 }
 
 }  // namespace
@@ -62,7 +63,7 @@ void add_vocab_command(CLI::App& app) {
       ->capture_default_str();
   train->add_option("--seed", a->seed, "clustering seed")->capture_default_str();
   train->add_flag("--text", a->text, "write ORBvoc.txt's text format instead of binary");
-  train->callback([a] { run_vocab_train(*a); });
+  train->callback([a] { with_output_file(a->out, [&] { run_vocab_train(*a); }); });
 }
 
 }  // namespace loopscan::cli

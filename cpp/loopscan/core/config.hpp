@@ -37,6 +37,18 @@ struct DelightConfig {
   Mode mode = Mode::Default;
 };
 
+// Each throws std::invalid_argument naming the first field that is out of its range: NaN and
+// infinite values, sizes whose tables would not fit in memory (cell counts above 2^26),
+// ranges beyond 1 km. Every stage that takes a config checks it on construction.
+void validate(const ImitationConfig& config);
+void validate(const ScanContextConfig& config);
+void validate(const M2dpConfig& config);
+void validate(const DelightConfig& config);
+
+// Descriptors need every coordinate and gray value finite (the imitation guarantees it);
+// throws std::invalid_argument naming `who` and the first offending point otherwise.
+void require_finite(const Cloud& scan, const char* who);
+
 // The filter each descriptor uses in the paper.
 inline ScanFilter filter_for(Method method) {
   return method == Method::ScanContext ? ScanFilter::Cartesian : ScanFilter::Polar;

@@ -49,12 +49,13 @@ class FootprintHash {
   bool overlaps(const Footprint& f, double margin, int tag_mask) const;
 
  private:
-  std::int64_t key(int i, int j) const {
-    return (static_cast<std::int64_t>(i) << 32) ^ static_cast<std::uint32_t>(j);
+  // Both indices as 32-bit patterns side by side (shifting a negative int64 would be UB).
+  std::uint64_t key(int i, int j) const {
+    return (std::uint64_t{static_cast<std::uint32_t>(i)} << 32) | static_cast<std::uint32_t>(j);
   }
   double cell_;
   std::vector<std::pair<Footprint, int>> entries_;
-  std::unordered_map<std::int64_t, std::vector<int>> cells_;  // lookups only: order-free
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;  // lookups only: order-free
 };
 
 struct Layout {

@@ -25,6 +25,8 @@ Signature delight_of_aligned(const Cloud& aligned, const DelightConfig& config) 
 }
 
 Signature delight_signature(const Cloud& scan, const DelightConfig& config) {
+  validate(config);
+  require_finite(scan, "delight_signature");
   return delight_of_aligned(pca_align(scan, config.mode), config);
 }
 

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
+#include <string>
 
 namespace loopscan {
 namespace {
@@ -53,13 +55,18 @@ double describe_batch(const std::vector<Cloud>& scans, const SequenceOptions& op
 SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
                                      const std::vector<IdPoint>& points,
                                      const SequenceOptions& options) {
+  if (options.threads < 1 || options.threads > SequenceOptions::kMaxThreads) {
+    throw std::invalid_argument("describe_sequence: threads must be in [1, " +
+                                std::to_string(SequenceOptions::kMaxThreads) + "], got " +
+                                std::to_string(options.threads));
+  }
   SequenceSignatures out;
   ScanImitator imitator(options.imitation);
   const ScanFilter filter = filter_for(options.method);
   std::vector<int> resets = options.reset_ids;
   std::sort(resets.begin(), resets.end());
   std::vector<Cloud> batch;  // scans waiting for their description
-  const std::size_t batch_size = options.threads > 1 ? 16 * options.threads : 1;
+  const std::size_t batch_size = options.threads > 1 ? 16 * std::size_t(options.threads) : 1;
   auto flush = [&] {
     std::vector<Signature> sigs(batch.size());
     std::vector<Eigen::Matrix3d> frames(batch.size());

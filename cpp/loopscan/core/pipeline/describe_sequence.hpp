@@ -15,6 +15,7 @@ struct SequenceOptions {
   DescriptorConfig descriptors;
   std::vector<int> reset_ids;  // keyframes where the VO restarted (default mode only)
   int threads = 1;  // imitation is sequential; descriptions of a batch of scans run in parallel
+  static constexpr int kMaxThreads = 1024;
   // Consistent options for a mode and range (the paper: 45 m).
   static SequenceOptions make(Method method, Mode mode, double range_m = 45.0);
 };
@@ -28,6 +29,8 @@ struct SequenceSignatures {
   double mean_in_range = 0, mean_filtered = 0;  // points per scan
 };
 
+// Throws std::invalid_argument on invalid options (threads outside [1, kMaxThreads], configs
+// that fail validate) and on a non-finite keyframe pose.
 SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
                                      const std::vector<IdPoint>& points,
                                      const SequenceOptions& options);

@@ -37,6 +37,7 @@ struct KeyArgs {
   int nx, ny;
   float inv;  // polar: bins per radian
   int azimuth_bins;
+  int outside_key;  // max_key + 1: no cell
   std::uint32_t* keys;
   double* scores;
   std::uint8_t* check;  // polar: 1 where a value is too close to a boundary for the float path
@@ -58,7 +59,10 @@ LOOPSCAN_INLINE void compute_keys(const KeyArgs& a) {
       const VI xi = __builtin_convertvector((x + a.range) * a.step_xz, VI);
       const VI yi = __builtin_convertvector((y + a.range) * a.step_y, VI);
       const VI zi = __builtin_convertvector((z + a.range) * a.step_xz, VI);
-      key = xi + yi * a.nx + zi * (a.nx * a.ny);
+      // Points outside the cube (and NaN) get the key no cell has: the selection drops them.
+      const VI inside = (x > -a.range) & (x < a.range) & (y > -a.range) & (y < a.range) &
+                        (z > -a.range) & (z < a.range);
+      key = inside ? xi + yi * a.nx + zi * (a.nx * a.ny) : VI{} + a.outside_key;
       score = y;
     } else {
       const V xz2 = x * x + z * z;
@@ -72,7 +76,8 @@ LOOPSCAN_INLINE void compute_keys(const KeyArgs& a) {
       const VI near = (fa < kMargin) | (fa > 1.f - kMargin) | (fe < kMargin) | (fe > 1.f - kMargin);
       key = ia + ie * a.azimuth_bins;
       score = xz2 + y * y;
-      for (int l = 0; l < kV; ++l) a.check[i + l] = near[l] != 0;
+      const VI finite = score < __builtin_inff();  // NaN / inf lanes: the exact path drops them
+      for (int l = 0; l < kV; ++l) a.check[i + l] = near[l] != 0 || finite[l] == 0;
     }
     for (int l = 0; l < kV; ++l) {
       a.keys[i + l] = static_cast<std::uint32_t>(key[l]);
@@ -107,6 +112,7 @@ Cloud to_cloud(const CameraPoints& p) {
 }
 
 Cloud filter_camera_points(const CameraPoints& p, ScanFilter filter, const ImitationConfig& c) {
+  validate(c);
   const std::size_t n = p.size();
   thread_local std::vector<std::uint32_t> keys;
   thread_local std::vector<double> scores;
@@ -129,6 +135,11 @@ Cloud filter_camera_points(const CameraPoints& p, ScanFilter filter, const Imita
   const double inv = 1.0 / (c.polar_resolution_deg / 180.0 * M_PI);
   a.inv = static_cast<float>(inv);
   a.azimuth_bins = static_cast<int>(std::floor(2 * M_PI * inv) + 1);
+  const std::uint32_t max_key =
+      filter == ScanFilter::Cartesian
+          ? static_cast<std::uint32_t>(a.nx * a.ny * a.nx - 1)
+          : static_cast<std::uint32_t>(a.azimuth_bins * (std::floor(M_PI * inv) + 1) - 1);
+  a.outside_key = static_cast<int>(max_key) + 1;
   a.keys = keys.data();
   a.scores = scores.data();
   a.check = check.data();
@@ -140,12 +151,20 @@ Cloud filter_camera_points(const CameraPoints& p, ScanFilter filter, const Imita
     if (i < a.n_vec && !check[i]) continue;
     const double x = p.x[i], y = p.y[i], z = p.z[i];
     if (filter == ScanFilter::Cartesian) {
+      if (!(std::abs(p.x[i]) < a.range && std::abs(p.y[i]) < a.range && std::abs(p.z[i]) < a.range)) {
+        keys[i] = static_cast<std::uint32_t>(a.outside_key);
+        continue;
+      }
       const int xi = static_cast<int>((p.x[i] + a.range) * a.step_xz);
       const int yi = static_cast<int>((p.y[i] + a.range) * a.step_y);
       const int zi = static_cast<int>((p.z[i] + a.range) * a.step_xz);
       keys[i] = static_cast<std::uint32_t>(xi + yi * a.nx + zi * a.nx * a.ny);
       scores[i] = p.y[i];
     } else {
+      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
+        keys[i] = static_cast<std::uint32_t>(a.outside_key);
+        continue;
+      }
       // Exact angles of the same float inputs the vector path saw.
       const float xz2f = p.x[i] * p.x[i] + p.z[i] * p.z[i];
       const double xzf = static_cast<double>(std::sqrt(xz2f));
@@ -155,10 +174,6 @@ Cloud filter_camera_points(const CameraPoints& p, ScanFilter filter, const Imita
       scores[i] = xz2f + p.y[i] * p.y[i];
     }
   }
-  const std::uint32_t max_key =
-      filter == ScanFilter::Cartesian
-          ? static_cast<std::uint32_t>(a.nx * a.ny * a.nx - 1)
-          : static_cast<std::uint32_t>(a.azimuth_bins * (std::floor(M_PI * inv) + 1) - 1);
   best_per_cell(keys, scores, max_key, kept);
   Cloud out(kept.size());
   for (std::size_t k = 0; k < kept.size(); ++k) {

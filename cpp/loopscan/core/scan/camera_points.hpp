@@ -24,7 +24,8 @@ Cloud to_cloud(const CameraPoints& points);
 
 // Default-mode filter on the float SoA scan: the same cells and keep rules as
 // cartesian_filter / polar_filter (keys from the float coordinates, exact at every boundary),
-// output ordered by cell.
+// output ordered by cell. Points outside the range cube (Cartesian) or with NaN coordinates
+// (both) are dropped. Throws std::invalid_argument on an invalid config.
 Cloud filter_camera_points(const CameraPoints& points, ScanFilter filter,
                            const ImitationConfig& config);
 

@@ -26,6 +26,7 @@ void best_per_cell(const std::vector<std::uint32_t>& keys, const std::vector<dou
   touched.resize(n);
   std::size_t n_touched = 0;
   for (std::size_t i = 0; i < n; ++i) {
+    if (keys[i] > max_key) continue;  // no cell: a point the caller marked as outside
     Cell& c = cells[keys[i]];
     const bool fresh = c.stamp != generation;
     const bool better = fresh || scores[i] < c.score;

@@ -1,7 +1,8 @@
 #pragma once
 // Keeps, per cell key, the index of the point with the smallest score (the first on ties), with
 // cells in order of first occurrence. A dense per-cell table with generation stamps and
-// branch-free updates: no hashing, no sorting, no unpredictable branches.
+// branch-free updates: no hashing, no sorting, no unpredictable branches. Keys above max_key
+// belong to no cell and are skipped.
 #include <cstdint>
 #include <vector>
 

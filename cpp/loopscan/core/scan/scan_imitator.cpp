@@ -2,6 +2,11 @@
 
 #include <Eigen/Geometry>
 
+#include <cfloat>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
 #include "loopscan/core/scan/point_filter.hpp"
 
 namespace loopscan {
@@ -19,9 +24,17 @@ void transform_points(const float (&R)[9], const float (&t)[3], const float* __r
   }
 }
 
+// Finite and representable in single precision (the default mode's local map).
+bool usable(double v) { return std::abs(v) <= FLT_MAX; }
+
+bool usable(const IdPoint& q) {
+  return usable(q.p_world.x()) && usable(q.p_world.y()) && usable(q.p_world.z()) &&
+         std::isfinite(q.intensity);
+}
+
 }  // namespace
 
-ScanImitator::ScanImitator(const ImitationConfig& config) : config_(config) {}
+ScanImitator::ScanImitator(const ImitationConfig& config) : config_(config) { validate(config); }
 
 void ScanImitator::reset() {
   local_.clear();
@@ -34,15 +47,30 @@ bool ScanImitator::accumulate(const KeyframePose& keyframe, const IdPoint* point
   // 1. Reset. The reference heuristic also fires on the first (identity) pose and, wrongly,
   //    whenever the camera passes within 1 m of the VO origin again.
   const bool reference = config_.mode == Mode::Reference;
+  for (int k = 0; k < 12; ++k) {
+    if (!usable(keyframe.T_cam_world(k / 4, k % 4))) {
+      throw std::invalid_argument("ScanImitator: keyframe " + std::to_string(keyframe.id) +
+                                  " has a non-finite pose");
+    }
+  }
   if (reference ? keyframe.T_cam_world.col(3).norm() < 1.0 : reset_signal) reset();
 
-  // 2. Accumulate the keyframe's points in the local map.
+  // 2. Accumulate the keyframe's points in the local map; points with NaN or infinite values
+  //    (which no crop would keep) are left out and counted.
   if (reference) {
     for (std::size_t i = 0; i < n_points; ++i) {
+      if (!usable(points[i])) {
+        ++unusable_points_;
+        continue;
+      }
       local_.push_back({points[i].p_world, points[i].intensity});
     }
   } else {
     for (std::size_t i = 0; i < n_points; ++i) {
+      if (!usable(points[i])) {
+        ++unusable_points_;
+        continue;
+      }
       world_.x.push_back(static_cast<float>(points[i].p_world.x()));
       world_.y.push_back(static_cast<float>(points[i].p_world.y()));
       world_.z.push_back(static_cast<float>(points[i].p_world.z()));

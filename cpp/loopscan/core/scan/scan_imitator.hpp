@@ -11,9 +11,11 @@ namespace loopscan {
 
 class ScanImitator {
  public:
+  // Throws std::invalid_argument on an invalid config (see validate).
   explicit ScanImitator(const ImitationConfig& config = {});
 
-  // Processes one keyframe and the points exported with it (world frame). Returns true when
+  // Processes one keyframe and the points exported with it (world frame). Throws
+  // std::invalid_argument when the pose has a NaN or infinite entry. Returns true when
   // the keyframe gets a scan; `in_range` then holds every local point within range, in the
   // camera frame, unfiltered. `reset` is the VO's reset signal (ignored in reference mode,
   // which detects resets itself as |t| < 1 m like the authors' code).
@@ -30,6 +32,10 @@ class ScanImitator {
   // the keyframe gets, or false. `in_range_count` (optional): points before filtering.
   bool next_scan(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
                  bool reset, ScanFilter filter, Cloud& scan, std::size_t* in_range_count = nullptr);
+
+  // Points left out because a coordinate or the gray value was NaN, infinite or beyond
+  // single precision.
+  std::size_t unusable_points() const { return unusable_points_; }
 
   // Forgets the local map; the next `init_frames` keyframes get no scan.
   void reset();
@@ -55,6 +61,7 @@ class ScanImitator {
   Cloud in_range_;              // next_scan's scratch, reference mode
   CameraPoints in_range_fast_;  // next_scan's scratch, default mode
   int frames_since_reset_ = 0;
+  std::size_t unusable_points_ = 0;
 };
 
 // Applies the configured de-duplicating filter to an in-range cloud.
