@@ -1,7 +1,8 @@
 #pragma once
-// 8-bit grayscale PNG files (the KITTI odometry images), with zlib: written with no row filter,
-// read with all five filters. Other PNG kinds (colour, 16-bit, palette, interlaced) are
-// rejected with an InputError naming what was found.
+// PNG files with zlib: 8-bit grayscale written with no row filter (the KITTI odometry
+// layout); any non-interlaced PNG read as 8-bit gray (all five row filters; colour, palette
+// and 16-bit converted as libpng's rgb_to_gray / strip_16 do). Interlaced files, sizes beyond
+// io::limits and damaged chunks are rejected with an InputError naming the file and the cause.
 #include <cstdint>
 #include <string>
 #include <vector>

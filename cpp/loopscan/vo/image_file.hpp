@@ -1,18 +1,15 @@
 #pragma once
-// Reading one 8-bit gray image (PNG, JPEG, ...; colour is converted) for the image-side stages
-// (VO, baselines). Header-only: the user links opencv_imgcodecs.
+// Reading one 8-bit gray image for the image-side stages (VO, baselines): PNG through
+// loopscan's own decoder (io::read_png_gray: colour converted, sizes bounded, errors name the
+// file), JPEG and the other formats through OpenCV after a size check of the header.
 #include <string>
 
-#include <opencv2/imgcodecs.hpp>
-
-#include "loopscan/io/errors.hpp"
+#include <opencv2/core.hpp>
 
 namespace loopscan::vo {
 
-inline cv::Mat read_gray_image(const std::string& path) {
-  cv::Mat image = cv::imread(path, cv::IMREAD_GRAYSCALE);
-  if (image.empty()) throw io::InputError(path, 0, "a readable image (PNG, JPEG, ...)");
-  return image;
-}
+// Throws io::InputError naming the file when it is missing, unreadable, damaged or larger
+// than io::limits allows.
+cv::Mat read_gray_image(const std::string& path);
 
 }  // namespace loopscan::vo
