@@ -18,73 +18,18 @@
 #include <loopscan/io/parse_numbers.hpp>
 #include <loopscan/io/sodso.hpp>
 
+#include "support/io_fixture.hpp"
+
 namespace fs = std::filesystem;
 using Positions = std::vector<Eigen::Vector3d>;
 using namespace loopscan::io;
 
 namespace {
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-// Runs `f` and returns the message of the E it throws (a test failure when it throws none).
-template <typename E = InputError>
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const E& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no exception";
-  return "";
-}
-
-// Expects `f` to throw InputError "<path>:<line>: expected ...<part>..." (no line when 0).
-void expect_input_error(const std::function<void()>& f, const std::string& path, std::size_t line,
-                        const std::string& part) {
-  const std::string msg = error_of(f);
-  const std::string where = line > 0 ? path + ":" + std::to_string(line) + ":" : path + ":";
-  EXPECT_EQ(msg.rfind(where + " expected ", 0), 0u) << msg;
-  EXPECT_TRUE(has(msg, part)) << msg;
-}
-
-class IoTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("loopscan_io_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string file(const std::string& name, const std::string& content) const {
-    const std::string p = (dir_ / name).string();
-    std::ofstream(p, std::ios::binary) << content;
-    return p;
-  }
-  std::string gz_file(const std::string& name, const std::string& content) const {
-    const std::string p = (dir_ / name).string();
-    gzFile f = gzopen(p.c_str(), "wb");
-    EXPECT_EQ(gzwrite(f, content.data(), static_cast<unsigned>(content.size())),
-              static_cast<int>(content.size()));  // also fails when gzopen did
-    gzclose(f);
-    return p;
-  }
-  static std::string slurp(const std::string& p) {
-    return {std::istreambuf_iterator<char>(std::ifstream(p, std::ios::binary).rdbuf()), {}};
-  }
-  // Writes `content` to a fresh file and expects `read(path)` to throw InputError at `line`.
-  template <typename Read>
-  void expect_bad(Read read, const std::string& content, std::size_t line,
-                  const std::string& part) {
-    const std::string p = file("bad" + std::to_string(++n_bad_) + ".txt", content);
-    expect_input_error([&] { read(p); }, p, line, part);
-  }
-  fs::path dir_;
-  int n_bad_ = 0;
-};
+using loopscan::test::error_of;
+using loopscan::test::expect_input_error;
+using loopscan::test::has;
+using IoTest = loopscan::test::IoFixture;
 
 std::vector<std::string> read_all_lines(const std::string& path) {
   LineReader reader(path);
@@ -157,13 +102,14 @@ TEST_F(IoTest, MatrixRoundTripAndFormat) {
   for (const char* name : {"m.txt", "sub/dir/m.txt.gz"}) {
     const std::string p = (dir_ / name).string();
     write_matrix_text(p, m);
-    const Eigen::MatrixXd back = read_matrix_text(p, 53);
+    const double any = std::numeric_limits<double>::max();  // the default bound is 1e30
+    const Eigen::MatrixXd back = read_matrix_text(p, 53, any);
     ASSERT_TRUE(back.rows() == 37 && back.cols() == 53);
     for (Eigen::Index i = 0; i < m.size(); ++i) {
       ASSERT_LE(std::abs(back(i) - m(i)), 1e-9 * std::abs(m(i))) << name << " " << i;
     }
     write_matrix_text(p, m, 0);  // shortest round-trip text: exact
-    EXPECT_TRUE(read_matrix_text(p) == m) << name;
+    EXPECT_TRUE(read_matrix_text(p, 0, any) == m) << name;
   }
   EXPECT_EQ(slurp((dir_ / "sub/dir/m.txt.gz").string()).substr(0, 2), "\x1f\x8b");  // gzip magic
   const Eigen::MatrixXd small = (Eigen::MatrixXd(2, 2) << 1, 0.5, -2.25, 1e-20).finished();

@@ -52,8 +52,9 @@ class Reader {
     crc_ = crc32(crc_, static_cast<const Bytef*>(p), static_cast<uInt>(n));
     offset_ += n;
   }
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(path_, 0, "byte " + std::to_string(offset_) + ": " + what);
+  // "file: byte N: problem", N = the offset reached (the end of the field just read).
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw InputError(path_, InputError::Byte{offset_}, problem);
   }
   std::uint32_t crc() const { return static_cast<std::uint32_t>(crc_); }
   std::size_t offset() const { return offset_; }

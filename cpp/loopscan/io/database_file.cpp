@@ -5,11 +5,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <vector>
 
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/binary_stream.hpp"
 #include "loopscan/io/errors.hpp"
+#include "loopscan/io/limits.hpp"
 
 namespace loopscan::io {
 namespace {
@@ -33,6 +35,25 @@ bool same_parameters(const DatabaseConfig& a, const DatabaseConfig& b) {
          (!sc || (a.scan_context.rings == b.scan_context.rings &&
                   a.scan_context.sectors == b.scan_context.sectors)) &&
          (sc || ca == cb);
+}
+
+// What a place record must hold beyond its bytes: ids >= 0, a rotation as the descriptor
+// frame (PCA axes), a finite pose within the coordinate bound.
+void check_place(const Reader& r, std::uint64_t i, const PlaceRef& p,
+                 const Eigen::Matrix<float, 3, 3, Eigen::RowMajor>& frame,
+                 const std::optional<Pose3x4>& pose) {
+  const std::string place = "place " + std::to_string(i) + ": ";
+  if (p.session < 0 || p.keyframe < 0) {
+    r.fail(place + "session " + std::to_string(p.session) + ", keyframe " +
+           std::to_string(p.keyframe) + ", expected both >= 0");
+  }
+  const Eigen::Matrix3d f = frame.cast<double>();
+  if (!f.allFinite() || !((f * f.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3)) {
+    r.fail(place + "the descriptor frame is not a rotation matrix");
+  }
+  if (pose && !(pose->cwiseAbs().maxCoeff() <= limits::kMaxCoordinateM)) {
+    r.fail(place + "the pose has NaN, infinite or values beyond +-1e9");
+  }
 }
 
 }  // namespace
@@ -98,7 +119,10 @@ Database load_database(const std::string& path, const DatabaseConfig* expected) 
   if (fusion > 2) r.fail("fusion " + std::to_string(fusion) + ", expected 0..2");
   c.fusion = static_cast<Fusion>(fusion);
   c.structure_weight = r.get<double>("the structure weight");
-  if (!std::isfinite(c.structure_weight)) r.fail("a finite structure weight");
+  if (!(c.structure_weight >= 0 && c.structure_weight <= 1000)) {
+    r.fail("structure weight " + std::to_string(c.structure_weight) +
+           ", expected a finite number in [0, 1000]");
+  }
   c.scan_context.rings = r.get<std::int32_t>("the ring count");
   c.scan_context.sectors = r.get<std::int32_t>("the sector count");
   c.columns = r.get<std::int32_t>("the signature width");
@@ -153,7 +177,12 @@ Database load_database(const std::string& path, const DatabaseConfig* expected) 
       pose = T;
     }
     r.bytes(payload.data(), payload.size() * sizeof(float), "a place payload");
-    db.add_stored(p, payload.data(), frame, pose);
+    check_place(r, i, p, frame, pose);
+    try {
+      db.add_stored(p, payload.data(), frame, pose);  // checks the payload's values
+    } catch (const std::invalid_argument& e) {
+      r.fail("place " + std::to_string(i) + ": " + e.what());
+    }
   }
   const std::uint32_t crc = r.crc();
   std::uint32_t stored = 0;

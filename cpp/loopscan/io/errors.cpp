@@ -19,4 +19,10 @@ InputError::InputError(const std::string& file, std::size_t line, const std::str
       line_(line),
       what_expected_(what_expected) {}
 
+InputError::InputError(const std::string& file, Byte at, const std::string& problem)
+    : std::runtime_error(file + ": byte " + std::to_string(at.offset) + ": " + problem),
+      file_(file),
+      line_(0),
+      what_expected_(problem) {}
+
 }  // namespace loopscan::io

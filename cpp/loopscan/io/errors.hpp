@@ -11,6 +11,11 @@ namespace loopscan::io {
 class InputError : public std::runtime_error {
  public:
   InputError(const std::string& file, std::size_t line, const std::string& what_expected);
+  // Binary files: "file: byte N: problem" (line() is 0, what_expected() the problem).
+  struct Byte {
+    std::size_t offset;
+  };
+  InputError(const std::string& file, Byte at, const std::string& problem);
 
   const std::string& file() const { return file_; }
   std::size_t line() const { return line_; }

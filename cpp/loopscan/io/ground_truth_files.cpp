@@ -8,6 +8,7 @@
 
 #include <loopscan/io/errors.hpp>
 #include <loopscan/io/line_reader.hpp>
+#include <loopscan/io/limits.hpp>
 #include <loopscan/io/parse_numbers.hpp>
 
 namespace loopscan::io {
@@ -23,12 +24,7 @@ std::vector<double> read_fixed_width(const std::string& path, std::size_t n,
     Tokenizer tokens(line);
     const std::size_t first = values.size();
     values.resize(first + n);
-    parse_exactly(reader, tokens, values.data() + first, n, expected);
-    for (std::size_t i = first; i < values.size(); ++i) {
-      if (!std::isfinite(values[i])) {
-        throw InputError(path, reader.line_number(), "finite numbers");
-      }
-    }
+    parse_exactly(reader, tokens, values.data() + first, n, expected, limits::kMaxCoordinateM);
   }
   return values;
 }

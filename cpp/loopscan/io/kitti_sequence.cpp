@@ -5,6 +5,7 @@
 
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/line_reader.hpp"
+#include "loopscan/io/limits.hpp"
 #include "loopscan/io/parse_numbers.hpp"
 
 namespace loopscan::io {
@@ -28,7 +29,8 @@ KittiCalib read_kitti_calib(const std::string& path) {
     std::string_view key;
     if (!tokens.next(key) || (key != "P0:" && key != "P1:")) continue;
     const int k = key == "P0:" ? 0 : 1;
-    parse_exactly(reader, tokens, p[k], 12, "P0:/P1: followed by 12 numbers (3x4 projection)");
+    parse_exactly(reader, tokens, p[k], 12, "P0:/P1: followed by 12 numbers (3x4 projection)",
+                  limits::kMaxCoordinateM);
     seen[k] = true;
   }
   for (int k = 0; k < 2; ++k) {
@@ -57,7 +59,7 @@ KittiSequence open_kitti_sequence(const std::string& dir) {
     if (is_blank(line)) continue;
     Tokenizer tokens(line);
     double t;
-    parse_exactly(reader, tokens, &t, 1, "one timestamp in seconds");
+    parse_exactly(reader, tokens, &t, 1, "one timestamp in seconds", 1e12);
     if (!s.times.empty() && !(t > s.times.back())) {
       throw InputError(reader.path(), reader.line_number(), "timestamps in increasing order");
     }

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include <loopscan/io/errors.hpp>
+#include <loopscan/io/limits.hpp>
 #include <loopscan/io/parse_numbers.hpp>
 
 namespace loopscan::io {
@@ -100,7 +101,13 @@ bool LineReader::refill() {
     end_ -= begin_;
     begin_ = 0;
   }
-  if (end_ == buf_.size()) buf_.resize(buf_.size() * 2);
+  if (end_ >= limits::kMaxLineBytes) {  // a partial line fills the buffer: no line break
+    throw InputError(path_, line_number_ + 1,
+                     "lines of at most " + std::to_string(limits::kMaxLineBytes >> 20) +
+                         " MiB (no line break in the first " +
+                         std::to_string(limits::kMaxLineBytes >> 20) + " MiB of this line)");
+  }
+  if (end_ == buf_.size()) buf_.resize(std::min(buf_.size() * 2, limits::kMaxLineBytes));
   const std::size_t room = std::min<std::size_t>(buf_.size() - end_, INT_MAX);
   const int n = gzread(file_, buf_.data() + end_, static_cast<unsigned>(room));
   if (n < 0) throw InputError(path_, line_number_ + 1, "readable, uncorrupted (gzip) data");

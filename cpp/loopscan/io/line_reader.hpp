@@ -12,7 +12,8 @@ namespace loopscan::io {
 // Reads a text file line by line. Files are opened through zlib, which inflates gzip data
 // (e.g. "*.gz") and passes plain text through unchanged. Throws InputError(path, 0,
 // "a readable file") when the file cannot be opened, and InputError on corrupt or truncated
-// gzip data.
+// gzip data and on a line longer than io::limits::kMaxLineBytes (so /dev/zero or a binary
+// file given as text ends in an error, not in unbounded memory).
 class LineReader {
  public:
   explicit LineReader(const std::string& path);

@@ -17,7 +17,8 @@ std::string numbers_expected(std::size_t cols) { return std::to_string(cols) + "
 
 }  // namespace
 
-Eigen::MatrixXd read_matrix_text(const std::string& path, std::size_t expected_cols) {
+Eigen::MatrixXd read_matrix_text(const std::string& path, std::size_t expected_cols,
+                                 double max_abs) {
   LineReader reader(path);
   std::vector<double> values;
   std::size_t cols = expected_cols;
@@ -25,7 +26,7 @@ Eigen::MatrixXd read_matrix_text(const std::string& path, std::size_t expected_c
   std::string expected = expected_cols > 0 ? numbers_expected(expected_cols) : "numbers";
   std::string_view line;
   while (next_data_line(reader, line)) {
-    const std::size_t n = parse_numbers(reader, line, values, expected);
+    const std::size_t n = parse_numbers(reader, line, values, expected, max_abs);
     if (cols == 0) {  // first row fixes the width when the caller did not
       cols = n;
       expected = numbers_expected(cols) + " (the width of the first row)";

@@ -5,13 +5,17 @@
 
 #include <Eigen/Core>
 
+#include "loopscan/io/limits.hpp"
+
 namespace loopscan::io {
 
 // Whitespace-separated numbers, one row a line; .gz is supported. expected_cols = 0 accepts any
 // width as long as every row has the width of the first. Rows of the wrong width or junk tokens
 // throw InputError naming the line and "N numbers". Blank lines only at the end; an empty file
-// gives a 0 x expected_cols matrix. "nan"/"inf" tokens are accepted.
-Eigen::MatrixXd read_matrix_text(const std::string& path, std::size_t expected_cols = 0);
+// gives a 0 x expected_cols matrix. Every value must be finite and within +-max_abs (default:
+// what single precision holds with room).
+Eigen::MatrixXd read_matrix_text(const std::string& path, std::size_t expected_cols = 0,
+                                 double max_abs = limits::kMaxSignatureValue);
 
 // Writes each value with `significant_digits` significant digits (printf "%.*g" formatting,
 // 1..17; 0 selects the shortest text that round-trips exactly), single spaces, '\n' per row.

@@ -1,6 +1,8 @@
 #include <loopscan/io/parse_numbers.hpp>
 
 #include <charconv>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <system_error>
@@ -42,6 +44,11 @@ bool parse_token(std::string_view token, T& out) {
   throw InputError(reader.path(), reader.line_number(), std::string(expected));
 }
 
+[[noreturn]] void fail_bound(const LineReader& reader, std::string_view expected, double max_abs) {
+  throw InputError(reader.path(), reader.line_number(),
+                   std::string(expected) + ", each finite and within " + bound_text(max_abs));
+}
+
 }  // namespace
 
 bool is_blank(std::string_view line) {
@@ -75,14 +82,21 @@ bool parse_number(std::string_view token, double& out) { return parse_token(toke
 bool parse_number(std::string_view token, float& out) { return parse_token(token, out); }
 bool parse_number(std::string_view token, int& out) { return parse_token(token, out); }
 
+std::string bound_text(double max_abs) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "+-%g", max_abs);
+  return buf;
+}
+
 std::size_t parse_numbers(const LineReader& reader, std::string_view line, std::vector<double>& out,
-                          std::string_view expected) {
+                          std::string_view expected, double max_abs) {
   Tokenizer tokens(line);
   std::string_view token;
   std::size_t count = 0;
   double value = 0.0;
   while (tokens.next(token)) {
     if (!parse_number(token, value)) fail(reader, expected);
+    if (!(std::abs(value) <= max_abs)) fail_bound(reader, expected, max_abs);
     out.push_back(value);
     ++count;
   }
@@ -90,10 +104,11 @@ std::size_t parse_numbers(const LineReader& reader, std::string_view line, std::
 }
 
 void parse_exactly(const LineReader& reader, Tokenizer& tokens, double* out, std::size_t n,
-                   std::string_view expected) {
+                   std::string_view expected, double max_abs) {
   std::string_view token;
   for (std::size_t i = 0; i < n; ++i) {
     if (!tokens.next(token) || !parse_number(token, out[i])) fail(reader, expected);
+    if (!(std::abs(out[i]) <= max_abs)) fail_bound(reader, expected, max_abs);
   }
   if (!tokens.at_end()) fail(reader, expected);
 }

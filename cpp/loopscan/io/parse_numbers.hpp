@@ -1,6 +1,7 @@
 #pragma once
 // Number parsing shared by every reader: std::from_chars on blank-separated tokens.
 #include <cstddef>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -36,13 +37,18 @@ bool parse_number(std::string_view token, float& out);
 bool parse_number(std::string_view token, int& out);
 
 // Appends every number of `line` to `out` and returns how many were appended. A token that is
-// not a number throws InputError(reader.path(), reader.line_number(), expected).
+// not a finite number of magnitude <= max_abs throws InputError(reader.path(),
+// reader.line_number(), expected + the bound).
 std::size_t parse_numbers(const LineReader& reader, std::string_view line, std::vector<double>& out,
-                          std::string_view expected);
+                          std::string_view expected, double max_abs);
 
 // Parses exactly `n` doubles from the remaining tokens into out[0..n). Fewer, more or junk
-// tokens throw InputError(reader.path(), reader.line_number(), expected).
+// tokens, NaN, infinity and magnitudes above max_abs throw InputError(reader.path(),
+// reader.line_number(), expected + the bound).
 void parse_exactly(const LineReader& reader, Tokenizer& tokens, double* out, std::size_t n,
-                   std::string_view expected);
+                   std::string_view expected, double max_abs);
+
+// "+-1e+09" for the messages.
+std::string bound_text(double max_abs);
 
 }  // namespace loopscan::io

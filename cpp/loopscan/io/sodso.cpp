@@ -7,6 +7,7 @@
 
 #include <loopscan/io/errors.hpp>
 #include <loopscan/io/line_reader.hpp>
+#include <loopscan/io/limits.hpp>
 #include <loopscan/io/parse_numbers.hpp>
 
 namespace loopscan::io {
@@ -38,10 +39,7 @@ std::vector<KeyframePose> read_sodso_poses(const std::string& path) {
     Tokenizer tokens(line);
     KeyframePose pose;
     pose.id = read_id(reader, tokens, kPoseExpected);
-    parse_exactly(reader, tokens, v, 12, kPoseExpected);
-    for (double x : v) {
-      if (!std::isfinite(x)) throw InputError(path, reader.line_number(), "finite pose numbers");
-    }
+    parse_exactly(reader, tokens, v, 12, kPoseExpected, limits::kMaxCoordinateM);
     if (!poses.empty() && pose.id <= poses.back().id) {
       throw InputError(path, reader.line_number(), "keyframe ids in increasing order");
     }
@@ -76,8 +74,8 @@ std::vector<IdPoint> read_sodso_points(const std::string& path, PointReadStats* 
       throw InputError(path, reader.line_number(), "point ids in non-decreasing order");
     }
     last_id = id;
-    if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2]) ||
-        !std::isfinite(intensity)) {
+    const auto usable = [](double c) { return std::abs(c) <= limits::kMaxCoordinateM; };
+    if (!usable(xyz[0]) || !usable(xyz[1]) || !usable(xyz[2]) || !std::isfinite(intensity)) {
       ++counts.non_finite_skipped;
       continue;
     }

@@ -7,6 +7,7 @@
 #include <Eigen/LU>
 
 #include "loopscan/core/parallel.hpp"
+#include "loopscan/core/database/database_checks.hpp"
 #include "loopscan/core/database/place_store.hpp"
 
 namespace loopscan {
@@ -46,7 +47,8 @@ double zscore(double x, const RowStats& s) { return s.stddev > 0 ? (x - s.mean) 
 
 }  // namespace
 
-Database::Database(const DatabaseConfig& config) : config_(config), store_(make_store(config)) {}
+Database::Database(const DatabaseConfig& config)
+    : config_(config), store_((validate(config), make_store(config))) {}
 Database::~Database() = default;
 Database::Database(Database&&) noexcept = default;
 Database& Database::operator=(Database&&) noexcept = default;
@@ -57,6 +59,7 @@ void Database::stored_payload(std::size_t i, float* out) const { store_->stored(
 
 void Database::add(const PlaceRef& place, const PlaceDescriptor& descriptor,
                    const std::optional<Pose3x4>& T_cam_world) {
+  require_finite_values(descriptor.signature, "Database::add");
   std::vector<float> payload(store_->payload_floats());
   store_->encode(descriptor.signature, payload.data());
   add_stored(place, payload.data(), descriptor.frame.cast<float>(), T_cam_world);
@@ -64,6 +67,9 @@ void Database::add(const PlaceRef& place, const PlaceDescriptor& descriptor,
 
 void Database::add_stored(const PlaceRef& place, const float* payload, const Eigen::Matrix3f& frame,
                           const std::optional<Pose3x4>& T_cam_world) {
+  require_finite_values(payload, static_cast<std::size_t>(store_->payload_floats()),
+                        "Database::add_stored");
+  require_finite_frame_and_pose(frame, T_cam_world, "Database::add");
   store_->append(payload);
   places_.push_back(place);
   frames_.push_back(frame);
@@ -74,6 +80,8 @@ void Database::add_stored(const PlaceRef& place, const float* payload, const Eig
 
 std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
                                        const QueryOptions& options) const {
+  validate(options, k);
+  require_finite_values(descriptor.signature, "Database::query");
   const auto query = store_->prepare(descriptor.signature);  // validates the shape
   const std::size_t n = places_.size();
   const std::size_t limit =

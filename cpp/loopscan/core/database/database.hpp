@@ -86,16 +86,19 @@ class PlaceStore;
 // query() is const and may run on several threads at once; add() must not overlap anything.
 class Database {
  public:
+  // Throws std::invalid_argument on an invalid config (see database_checks.hpp).
   explicit Database(const DatabaseConfig& config = {});
   ~Database();
   Database(Database&&) noexcept;
   Database& operator=(Database&&) noexcept;
 
-  // Throws std::invalid_argument when the signature does not have the method's shape.
+  // Throws std::invalid_argument when the signature does not have the method's shape or holds
+  // NaN / infinite values, or the frame or pose does.
   void add(const PlaceRef& place, const PlaceDescriptor& descriptor,
            const std::optional<Pose3x4>& T_cam_world = std::nullopt);
 
-  // Up to k results, best first.
+  // Up to k results, best first. Throws std::invalid_argument on invalid options or a
+  // non-finite query signature.
   std::vector<Candidate> query(const PlaceDescriptor& descriptor, int k,
                                const QueryOptions& options = {}) const;
 

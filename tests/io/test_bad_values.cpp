@@ -1,0 +1,137 @@
+// Values that parse but must not be accepted: NaN, infinities, magnitudes beyond the bounds
+// of io::limits, lines without end, database records with a valid checksum but impossible
+// contents. Each is an InputError naming the file and the line or byte.
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <cstring>
+#include <limits>
+
+#include "loopscan/core/database/database.hpp"
+#include "loopscan/io/database_file.hpp"
+#include "loopscan/io/ground_truth_files.hpp"
+#include "loopscan/io/kitti_sequence.hpp"
+#include "loopscan/io/line_reader.hpp"
+#include "loopscan/io/matrix_text.hpp"
+#include "loopscan/io/sodso.hpp"
+#include "support/io_fixture.hpp"
+
+namespace loopscan {
+namespace {
+
+using test::error_of;
+using test::has;
+using BadValues = test::IoFixture;
+using namespace io;
+namespace fs = std::filesystem;
+
+TEST_F(BadValues, TextLinesAreBoundedEvenWithoutALineBreak) {
+  const std::string endless(std::size_t{5} << 20, '7');  // 5 MiB, no '\n' (like /dev/zero)
+  for (const std::string& p : {file("long.txt", endless), gz_file("long.txt.gz", endless)}) {
+    const std::string msg = error_of([&] { read_matrix_text(p); });
+    EXPECT_TRUE(has(msg, p + ":1: expected lines of at most 4 MiB")) << msg;
+  }
+  // A line just under the bound is read.
+  std::string wide;
+  for (int i = 0; i < 200000; ++i) wide += "1.5 ";
+  EXPECT_EQ(read_matrix_text(file("wide.txt", wide + "\n")).cols(), 200000);
+}
+
+TEST_F(BadValues, MatrixValuesMustBeFiniteAndWithinTheBound) {
+  const auto read = [](auto p) { read_matrix_text(p); };
+  expect_bad(read, "1 2\n3 nan\n", 2, "finite and within +-1e+30");
+  expect_bad(read, "1 inf\n", 1, "finite");
+  expect_bad(read, "1 -1e31\n", 1, "+-1e+30");
+  expect_bad(read, "1 1e400\n", 1, "finite");  // overflows double: infinity
+  EXPECT_EQ(read_matrix_text(file("ok.txt", "1e29 -1e29\n"))(0, 1), -1e29);
+  expect_bad([](auto p) { read_matrix_text(p, 2, 1.0); }, "0.5 1.5\n", 1, "+-1");
+}
+
+TEST_F(BadValues, PosesAndGroundTruthMustBeFiniteAndWithinABillionMetres) {
+  const auto poses = [](auto p) { read_sodso_poses(p); };
+  expect_bad(poses, "0 1 0 0 nan 0 1 0 0 0 0 1 0\n", 1, "finite");
+  expect_bad(poses, "0 1 0 0 1e10 0 1 0 0 0 0 1 0\n", 1, "+-1e+09");
+  const auto kitti = [](auto p) { read_kitti_poses(p); };
+  expect_bad(kitti, "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 inf 0 1 0 0 0 0 1 0\n", 2, "finite");
+  const auto gps = [](auto p) { read_positions(p, GtFormat::RobotCar); };
+  expect_bad(gps, "5735000 620000 -1\n1e308 620000 -1\n", 2, "+-1e+09");
+  // RobotCar's real magnitudes (northings ~5.7e6 m) are well inside.
+  EXPECT_EQ(read_positions(file("g.txt", "5735000.5 620000 -1\n"), GtFormat::RobotCar).size(), 1u);
+}
+
+TEST_F(BadValues, PointsBeyondTheBoundAreSkippedAndCountedLikeNaN) {
+  PointReadStats stats;
+  const auto pts = read_sodso_points(
+      file("p.txt", "0 1 2 3 10\n0 1e10 2 3 10\n0 1 nan 3 10\n0 1 2 3 inf\n1 -4 5 6 20\n"), &stats);
+  ASSERT_EQ(pts.size(), 2u);
+  EXPECT_EQ(stats.non_finite_skipped, 3u);
+  EXPECT_EQ(pts[1].p_world.x(), -4.0);
+}
+
+TEST_F(BadValues, CalibrationAndTimesMustBeFinite) {
+  const std::string p1 = "P1: 700 0 600 -380 0 700 180 0 0 0 1 0\n";
+  expect_bad([](auto p) { read_kitti_calib(p); }, "P0: 700 0 600 0 0 nan 180 0 0 0 1 0\n" + p1, 1,
+             "finite");
+  const fs::path seq = dir_ / "seq";
+  fs::create_directories(seq);
+  std::ofstream(seq / "calib.txt") << "P0: 700 0 600 0 0 700 180 0 0 0 1 0\n" << p1;
+  std::ofstream(seq / "times.txt") << "0\ninf\n";
+  const std::string msg = error_of([&] { open_kitti_sequence(seq.string()); });
+  EXPECT_TRUE(has(msg, "times.txt:2: expected one timestamp")) << msg;
+}
+
+// A saved database with bytes patched at `offset` and the checksum recomputed, so that only
+// the value checks can catch it.
+class PatchedDatabase : public BadValues {
+ protected:
+  std::string saved() {
+    DatabaseConfig cfg;
+    cfg.method = Method::Delight;
+    Database db(cfg);
+    Signature s = Signature::Zero(rows_per_place(cfg.method), signature_columns(cfg.method));
+    s(0, 3) = 2;
+    db.add({0, 7}, {s}, Pose3x4::Identity());
+    save_database(db, (dir_ / "ok.db").string());
+    return slurp((dir_ / "ok.db").string());
+  }
+  template <typename T>
+  std::string patched(std::size_t offset, T value) {
+    std::string bytes = saved();
+    std::memcpy(&bytes[offset], &value, sizeof value);
+    const auto crc = static_cast<std::uint32_t>(
+        crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size() - 4)));
+    std::memcpy(&bytes[bytes.size() - 4], &crc, 4);
+    return file("patched.db", bytes);
+  }
+  std::string load_error(const std::string& path) {
+    return error_of([&] { load_database(path); });
+  }
+  // Header 52 bytes; a place: session, keyframe, pose flag, frame (9 f32), pose (12 f64), payload.
+  static constexpr std::size_t kPlace = 52, kFrame = kPlace + 9, kPose = kFrame + 36,
+                               kPayload = kPose + 96;
+};
+
+TEST_F(PatchedDatabase, ValidChecksumButImpossibleValuesAreRejected) {
+  EXPECT_EQ(load_database(patched(kPayload, 2.0f)).size(), 1u);  // the patch itself is sound
+  EXPECT_TRUE(has(load_error(patched(20, -1e308)), "structure weight")) << load_error(patched(20, -1e308));
+  EXPECT_TRUE(has(load_error(patched(20, std::nan(""))), "structure weight"));
+  const std::string nan_payload = load_error(patched(kPayload + 8, std::nanf("")));
+  EXPECT_TRUE(has(nan_payload, "place 0") && has(nan_payload, "NaN")) << nan_payload;
+  EXPECT_TRUE(has(load_error(patched(kPayload, std::numeric_limits<float>::infinity())), "place 0"));
+  EXPECT_TRUE(has(load_error(patched(kFrame, 2.0f)), "not a rotation"));
+  EXPECT_TRUE(has(load_error(patched(kPose + 24, std::numeric_limits<double>::infinity())), "pose"));
+  EXPECT_TRUE(has(load_error(patched(kPlace, std::int32_t{-5})), ">= 0"));
+}
+
+TEST_F(PatchedDatabase, BinaryErrorsNameTheByteAndTheProblem) {
+  std::string bytes = saved();
+  bytes[kPayload + 1] = static_cast<char>(bytes[kPayload + 1] ^ 0x10);  // a flip, CRC unchanged
+  const std::string p = file("flipped.db", bytes);
+  const std::string msg = load_error(p);
+  EXPECT_EQ(msg.rfind(p + ": byte ", 0), 0u) << msg;
+  EXPECT_TRUE(has(msg, ": checksum mismatch")) << msg;
+  EXPECT_FALSE(has(msg, "expected byte")) << msg;
+}
+
+}  // namespace
+}  // namespace loopscan
