@@ -8,14 +8,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
 #include "evaluation_outputs.hpp"
 #include "loopscan/core/database/database.hpp"
 #include "loopscan/eval/precision_recall.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/database_file.hpp"
 #include "loopscan/io/errors.hpp"
-#include "signature_set.hpp"
+#include "loopscan/io/signature_set.hpp"
+#include "output_sets.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -50,8 +50,8 @@ void run_build(const BuildArgs& a) {
   config.fusion = parse_fusion(a.fusion);
   Database db(config);
   for (std::size_t s = 0; s < a.signatures.size(); ++s) {
-    SignatureSet set = load_signature_set(a.signatures[s], config.method);
-    if (!a.gt.empty()) attach_positions(set, a.gt[s], a.gt_format);
+    io::SignatureSet set = io::load_signature_set(a.signatures[s], config.method);
+    if (!a.gt.empty()) io::attach_positions(set, a.gt[s], a.gt_format);
     const int session = a.first_session + static_cast<int>(s);
     for (std::size_t i = 0; i < set.places.size(); ++i) {
       std::optional<Pose3x4> pose;
@@ -74,9 +74,9 @@ void run_build(const BuildArgs& a) {
 
 void run_query(const QueryArgs& a) {
   const Database db = io::load_database(a.db);
-  SignatureSet queries = load_signature_set(a.signatures, db.config().method);
+  io::SignatureSet queries = io::load_signature_set(a.signatures, db.config().method);
   const bool with_gt = !a.gt.empty();
-  if (with_gt) attach_positions(queries, a.gt, a.gt_format);
+  if (with_gt) io::attach_positions(queries, a.gt, a.gt_format);
 
   QueryOptions options;
   options.retrieval = a.exact ? Retrieval::Exact : Retrieval::Indexed;

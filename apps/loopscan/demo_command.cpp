@@ -7,13 +7,13 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
 #include "demo_figures.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/pr_plot.hpp"
+#include "output_sets.hpp"
 #include "simulation_setup.hpp"
 
 namespace loopscan::cli {

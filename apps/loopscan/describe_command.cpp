@@ -7,13 +7,13 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
+#include "image_commands.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/io/sodso.hpp"
-#include "image_commands.hpp"
 #include "options.hpp"
+#include "output_sets.hpp"
 #include "signature_outputs.hpp"
 
 namespace loopscan::cli {

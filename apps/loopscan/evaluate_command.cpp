@@ -6,12 +6,12 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
 #include "evaluation_outputs.hpp"
-#include "loopscan/eval/place_evaluation.hpp"
 #include "image_commands.hpp"
+#include "loopscan/eval/place_evaluation.hpp"
+#include "loopscan/io/signature_set.hpp"
 #include "options.hpp"
-#include "signature_set.hpp"
+#include "output_sets.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -32,14 +32,14 @@ void run_evaluate(const EvaluateArgs& a) {
   const Method method = parse_method(a.method);
   const Mode mode = parse_mode(a.mode);
   const Fusion fusion = parse_fusion(a.fusion);
-  SignatureSet queries = load_signature_set(a.signatures, method, a.ids);
-  attach_positions(queries, a.gt, a.gt_format);
+  io::SignatureSet queries = io::load_signature_set(a.signatures, method, a.ids);
+  io::attach_positions(queries, a.gt, a.gt_format);
   const bool cross = !a.against.empty();
-  SignatureSet db = queries;
+  io::SignatureSet db = queries;
   if (cross) {
     if (a.gt2.empty()) throw std::invalid_argument("--against needs --gt2");
-    db = load_signature_set(a.against, method);
-    attach_positions(db, a.gt2, a.gt_format);
+    db = io::load_signature_set(a.against, method);
+    io::attach_positions(db, a.gt2, a.gt_format);
   }
   if (queries.places.empty() || db.places.empty()) {
     throw std::invalid_argument("nothing to evaluate: no signatures in " +

@@ -15,8 +15,8 @@
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/io/matrix_text.hpp"
+#include "loopscan/io/signature_set.hpp"
 #include "output_sets.hpp"
-#include "signature_set.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -103,13 +103,13 @@ void run_image_describe(const ImageDescribeArgs& a) {
 
 void run_image_evaluate(const ImageEvaluateArgs& a) {
   ImageSet queries = load_image_set(a.signatures, a.method);
-  queries.positions = positions_of(queries.ids, a.gt, a.gt_format);
+  queries.positions = io::positions_of(queries.ids, a.gt, a.gt_format);
   const bool cross = !a.against.empty();
   ImageSet db = queries;
   if (cross) {
     if (a.gt2.empty()) throw std::invalid_argument("--against needs --gt2");
     db = load_image_set(a.against, a.method);
-    db.positions = positions_of(db.ids, a.gt2, a.gt_format);
+    db.positions = io::positions_of(db.ids, a.gt2, a.gt_format);
   }
   if (queries.size() == 0 || db.size() == 0)
     throw std::invalid_argument("nothing to evaluate: no places in " + (queries.size() == 0 ? a.signatures : a.against));

@@ -3,8 +3,8 @@
 #include <stdexcept>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
 #include "loopscan/io/errors.hpp"
+#include "output_sets.hpp"
 
 int main(int argc, char** argv) {
   loopscan::cli::set_command_line(argc, argv);

@@ -6,11 +6,11 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
 #include "loopscan/eval/pairwise.hpp"
 #include "loopscan/io/atomic_file.hpp"
-#include "loopscan/io/matrix_text.hpp"
+#include "loopscan/io/score_labels.hpp"
 #include "loopscan/report/pr_plot.hpp"
+#include "output_sets.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -20,13 +20,7 @@ struct PairsArgs {
 };
 
 void run_pairs(const PairsArgs& a) {
-  const Eigen::MatrixXd table = io::read_matrix_text(a.scores, 2);
-  std::vector<eval::ScoreLabel> pairs;
-  pairs.reserve(table.rows());
-  for (Eigen::Index i = 0; i < table.rows(); ++i) {
-    pairs.push_back({table(i, 0), static_cast<int>(table(i, 1))});
-  }
-  const eval::PairwiseResult r = eval::evaluate_pairwise(std::move(pairs));
+  const eval::PairwiseResult r = eval::evaluate_pairwise(io::read_score_labels(a.scores));
   std::filesystem::create_directories(a.out);
   const nlohmann::json metrics = {{"f1_max", r.f1_max},
                                   {"best_threshold", r.best_threshold},
@@ -54,7 +48,7 @@ void run_pairs(const PairsArgs& a) {
 void add_pairs_command(CLI::App& app) {
   auto args = std::make_shared<PairsArgs>();
   CLI::App* cmd = app.add_subcommand("pairs", "Evaluate pairwise `score label` lists (PR, F1-max)");
-  cmd->add_option("--scores", args->scores, "text file (or .gz): `score label` per line")
+  cmd->add_option("--scores", args->scores, "text file (or .gz): `score label` per line, label 0 or 1")
       ->required();
   cmd->add_option("--out", args->out, "output directory")->required();
   run_writing_dir(cmd, args, run_pairs);

@@ -6,11 +6,11 @@
 #include <sstream>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/png.hpp"
 #include "loopscan/io/vo_files.hpp"
 #include "loopscan/sim/renderer.hpp"
+#include "output_sets.hpp"
 #include "simulation_setup.hpp"
 
 namespace loopscan::cli {

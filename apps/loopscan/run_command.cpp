@@ -8,7 +8,6 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
 #include "evaluation_outputs.hpp"
 #include "image_commands.hpp"
 #include "loopscan/baselines/baseline_matching.hpp"
@@ -22,6 +21,7 @@
 #include "loopscan/report/plot.hpp"
 #include "loopscan/report/pr_plot.hpp"
 #include "options.hpp"
+#include "output_sets.hpp"
 #include "signature_outputs.hpp"
 #include "vo_outputs.hpp"
 

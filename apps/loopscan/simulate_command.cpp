@@ -2,8 +2,8 @@
 #include <cstdio>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
 #include "loopscan/io/sodso.hpp"
+#include "output_sets.hpp"
 #include "simulation_setup.hpp"
 
 namespace loopscan::cli {

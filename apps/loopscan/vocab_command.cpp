@@ -3,9 +3,9 @@
 #include <cstdio>
 
 #include "commands.hpp"
-#include "output_sets.hpp"
 #include "loopscan/baselines/describe_images.hpp"
 #include "loopscan/baselines/vocabulary_io.hpp"
+#include "output_sets.hpp"
 
 namespace loopscan::cli {
 namespace {

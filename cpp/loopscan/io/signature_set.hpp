@@ -5,7 +5,7 @@
 
 #include "loopscan/core/signature.hpp"
 
-namespace loopscan::cli {
+namespace loopscan::io {
 
 struct SignatureSet {
   std::vector<Signature> places;
@@ -15,8 +15,10 @@ struct SignatureSet {
   std::vector<Eigen::Matrix3d> frames;
 };
 
-// `path` is a `describe` output directory (signatures.txt[.gz] + incoming_id_file.txt) or a
-// signature file (then `ids_path`, or incoming_id_file.txt next to it, gives the ids).
+// `path` is a `describe` output directory (signatures.txt[.gz] + incoming_id_file.txt, and
+// frames.txt when present) or a signature file (then `ids_path`, or incoming_id_file.txt next
+// to it, gives the ids). Every file is checked against the others (rows per id, one frame per
+// id, each frame a rotation); errors are InputErrors naming the file.
 SignatureSet load_signature_set(const std::string& path, Method method,
                                 const std::string& ids_path = "");
 
@@ -27,4 +29,4 @@ std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
 // Positions of the places from a KITTI pose / RobotCar GPS file, indexed by keyframe id.
 void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format);
 
-}  // namespace loopscan::cli
+}  // namespace loopscan::io

@@ -1,4 +1,4 @@
-#include "signature_set.hpp"
+#include "loopscan/io/signature_set.hpp"
 
 #include <filesystem>
 
@@ -7,7 +7,7 @@
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/io/matrix_text.hpp"
 
-namespace loopscan::cli {
+namespace loopscan::io {
 namespace fs = std::filesystem;
 
 SignatureSet load_signature_set(const std::string& path, Method method,
@@ -21,11 +21,11 @@ SignatureSet load_signature_set(const std::string& path, Method method,
     id_file = (fs::path(path).parent_path() / "incoming_id_file.txt").string();
   }
   SignatureSet set;
-  set.keyframe_ids = io::read_incoming_ids(id_file);
-  const Eigen::MatrixXd all = io::read_matrix_text(sig_file, signature_columns(method));
+  set.keyframe_ids = read_incoming_ids(id_file);
+  const Eigen::MatrixXd all = read_matrix_text(sig_file, signature_columns(method));
   const int rows = rows_per_place(method);
   if (all.rows() != static_cast<Eigen::Index>(set.keyframe_ids.size()) * rows) {
-    throw io::InputError(sig_file, 0,
+    throw InputError(sig_file, 0,
                          std::to_string(set.keyframe_ids.size() * rows) + " rows (" +
                              std::to_string(rows) + " per id in " + id_file + "), found " +
                              std::to_string(all.rows()));
@@ -36,14 +36,18 @@ SignatureSet load_signature_set(const std::string& path, Method method,
   set.frames.assign(set.places.size(), Eigen::Matrix3d::Identity());
   const std::string frames_file = (fs::path(id_file).parent_path() / "frames.txt").string();
   if (fs::exists(frames_file)) {
-    const Eigen::MatrixXd f = io::read_matrix_text(frames_file, 9);
+    const Eigen::MatrixXd f = read_matrix_text(frames_file, 9, 1.0 + 1e-6);
     if (f.rows() != static_cast<Eigen::Index>(set.places.size())) {
-      throw io::InputError(frames_file, 0,
+      throw InputError(frames_file, 0,
                            std::to_string(set.places.size()) + " rows (one per id in " + id_file +
                                "), found " + std::to_string(f.rows()));
     }
     for (std::size_t i = 0; i < set.frames.size(); ++i) {
       for (int k = 0; k < 9; ++k) set.frames[i](k / 3, k % 3) = f(static_cast<Eigen::Index>(i), k);
+      const Eigen::Matrix3d& R = set.frames[i];
+      if (!((R * R.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-4)) {
+        throw InputError(frames_file, i + 1, "9 numbers forming a rotation matrix (row-major)");
+      }
     }
   }
   return set;
@@ -51,11 +55,11 @@ SignatureSet load_signature_set(const std::string& path, Method method,
 
 std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
                                           const std::string& gt_path, const std::string& format) {
-  const std::vector<Eigen::Vector3d> all = io::read_positions(gt_path, io::parse_gt_format(format));
+  const std::vector<Eigen::Vector3d> all = read_positions(gt_path, parse_gt_format(format));
   std::vector<Eigen::Vector3d> out;
   for (int id : keyframe_ids) {
     if (id < 0 || static_cast<std::size_t>(id) >= all.size()) {
-      throw io::InputError(gt_path, 0,
+      throw InputError(gt_path, 0,
                            "a line for keyframe id " + std::to_string(id) + " (file has " +
                                std::to_string(all.size()) + " lines)");
     }
@@ -68,4 +72,4 @@ void attach_positions(SignatureSet& set, const std::string& gt_path, const std::
   set.positions = positions_of(set.keyframe_ids, gt_path, format);
 }
 
-}  // namespace loopscan::cli
+}  // namespace loopscan::io
