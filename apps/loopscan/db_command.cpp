@@ -15,6 +15,7 @@
 #include "loopscan/io/database_file.hpp"
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/signature_set.hpp"
+#include "options.hpp"
 #include "output_sets.hpp"
 
 namespace loopscan::cli {
@@ -172,6 +173,7 @@ void add_db_command(CLI::App& app) {
   build->add_option("--gt-format", b->gt_format, "kitti | robotcar")->capture_default_str();
   build->add_option("--fusion", b->fusion, "fused | structure | intensity")->capture_default_str();
   build->add_option("--first-session", b->first_session, "session id of the first --signatures")
+      ->check(finite_in(0, 1e6))
       ->capture_default_str();
   build->add_option("--out", b->out, "database file")->required();
   build->callback([b] { with_output_file(b->out, [&] { run_build(*b); }); });
@@ -181,22 +183,30 @@ void add_db_command(CLI::App& app) {
   query->add_option("--db", q->db, "database file (db build)")->required();
   query->add_option("--signatures", q->signatures, "describe output dir of the queries")
       ->required();
-  query->add_option("--k", q->k, "results per query")->capture_default_str();
+  query->add_option("--k", q->k, "results per query")
+      ->check(finite_in(1, 10000))->capture_default_str();
   query->add_flag("--exact", q->exact, "exact search instead of the index");
   query->add_option("--candidates", q->candidates, "index candidates scored exactly")
+      ->check(finite_in(1, 1e6))
       ->capture_default_str();
-  query->add_option("--sessions", q->sessions, "only places of these sessions");
-  query->add_option("--exclude-recent", q->exclude_recent, "ignore the N places added last");
+  query->add_option("--sessions", q->sessions, "only places of these sessions")
+      ->check(finite_in(0, 1e6));
+  query->add_option("--exclude-recent", q->exclude_recent, "ignore the N places added last")
+      ->check(finite_in(0, kMaxCount));
   query->add_option("--uniqueness", q->uniqueness, "uniqueness ratio (1: off)")
+      ->check(finite_in(0, 1))
       ->capture_default_str();
-  query->add_option("--max-distance", q->max_distance, "drop results farther than this");
+  query->add_option("--max-distance", q->max_distance, "drop results farther than this")
+      ->check(finite_in(-1e12, 1e12));
   query->add_option("--gt", q->gt, "ground truth of the queries: adds metrics, PR curve");
   query->add_option("--gt-format", q->gt_format, "kitti | robotcar")->capture_default_str();
-  query->add_option("--threshold", q->threshold_m, "loop distance in m")->capture_default_str();
+  query->add_option("--threshold", q->threshold_m, "loop distance in m")
+      ->check(finite_in(1e-3, 1e6))->capture_default_str();
   query
       ->add_option("--mask", q->mask,
                    "the database holds these very places: skip |i - j| < mask (100 like "
                    "evaluate's same-session protocol)")
+      ->check(finite_in(0, kMaxCount))
       ->capture_default_str();
   query->add_option("--out", q->out, "output directory")->required();
   run_writing_dir(query, q, run_query);

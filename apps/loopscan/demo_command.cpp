@@ -13,6 +13,7 @@
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/pr_plot.hpp"
+#include "options.hpp"
 #include "output_sets.hpp"
 #include "simulation_setup.hpp"
 
@@ -129,6 +130,7 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();
   cmd->add_option("--seed", args->seed, "world seed")->capture_default_str();
   cmd->add_option("--threads", args->threads, "threads for description and matching")
+      ->check(finite_in(1, kMaxThreads))
       ->capture_default_str();
   run_writing_dir(cmd, args, run_demo);
 }

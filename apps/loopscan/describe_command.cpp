@@ -103,11 +103,14 @@ void add_describe_command(CLI::App& app) {
                   "gist, bow: dir with incoming_id_file.txt (the places to describe)");
   cmd->add_option("--vocab", args->images.vocab, "bow: vocabulary (ours or ORBvoc.txt)");
   cmd->add_option("--features", args->images.features, "bow: ORB features per image")
+      ->check(finite_in(1, 100000))
       ->capture_default_str();
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--mode", args->mode, "reference | default")->capture_default_str();
-  cmd->add_option("--range", args->range_m, "imitated LiDAR range in m")->capture_default_str();
+  cmd->add_option("--range", args->range_m, "imitated LiDAR range in m")
+      ->check(finite_in(0.1, 1000))->capture_default_str();
   cmd->add_option("--threads", args->threads, "threads describing scans (imitation is sequential)")
+      ->check(finite_in(1, kMaxThreads))
       ->capture_default_str();
   cmd->add_option("--reset-ids", args->reset_ids,
                   "default mode: file of keyframe ids where the VO reset (else detected)");

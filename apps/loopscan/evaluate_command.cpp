@@ -94,8 +94,10 @@ void add_evaluate_command(CLI::App& app) {
   cmd->add_option("--fusion", args->fusion, "fused | structure | intensity")->capture_default_str();
   cmd->add_option("--mode", args->mode, "reference (double, Matlab quirks) | default")
       ->capture_default_str();
-  cmd->add_option("--threshold", args->threshold_m, "loop distance in m (10 same / 25 cross)");
-  cmd->add_option("--mask", args->mask, "excluded index band |i-j| < mask (100 same / 0 cross)");
+  cmd->add_option("--threshold", args->threshold_m, "loop distance in m (10 same / 25 cross)")
+      ->check(finite_in(1e-3, 1e6));
+  cmd->add_option("--mask", args->mask, "excluded index band |i-j| < mask (100 same / 0 cross)")
+      ->check(finite_in(0, kMaxCount));
   cmd->add_option("--out", args->out, "output directory")->required();
   run_writing_dir(cmd, args, run_evaluate);
 }

@@ -259,6 +259,7 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--vocab", a->vocab, "bow: vocabulary (ours or ORBvoc.txt)");
   cmd->add_option("--mode", a->mode, "reference | default")->capture_default_str();
   cmd->add_option("--threads", a->threads, "threads describing and matching")
+      ->check(finite_in(1, kMaxThreads))
       ->capture_default_str();
   cmd->callback([cmd, a] {
     RunArgs args = *a;

@@ -3,6 +3,7 @@
 
 #include "commands.hpp"
 #include "loopscan/io/sodso.hpp"
+#include "options.hpp"
 #include "output_sets.hpp"
 #include "simulation_setup.hpp"
 
@@ -31,7 +32,7 @@ void run_simulate(const SimulateArgs& args) {
   if (a.gain >= 0) conditions.illumination_gain = a.gain;
   if (a.gamma > 0) conditions.gamma = a.gamma;
   const sim::StereoCamera camera =
-      a.calib.empty() ? sim::StereoCamera{} : sim::StereoCamera::read_orbslam_yaml(a.calib);
+      load_camera(a.calib);
   a.vo.seed = conditions.noise_seed(a.seed);
   a.vo.reset_keyframe_ids = a.resets;
   const Session s = simulate_session(t, world, conditions, camera, a.vo, vo_poses);
@@ -56,17 +57,24 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--seed", a->seed, "world seed (the same world for every season)")
       ->capture_default_str();
   cmd->add_option("--session", a->session, "session seed: parked cars, VO noise (default: seed)");
-  cmd->add_option("--gain", a->gain, "illumination gain (default: the season's)");
-  cmd->add_option("--gamma", a->gamma, "illumination gamma (default: the season's)");
+  cmd->add_option("--gain", a->gain, "illumination gain (default: the season's)")
+      ->check(finite_in(0, 100));
+  cmd->add_option("--gamma", a->gamma, "illumination gamma (default: the season's)")
+      ->check(finite_in(0.01, 10));
   cmd->add_option("--calib", a->calib, "ORB-SLAM2 KITTI yaml (default: KITTI 04-12 camera)");
-  cmd->add_option("--points-per-keyframe", a->vo.points_per_keyframe)->capture_default_str();
+  cmd->add_option("--points-per-keyframe", a->vo.points_per_keyframe)
+      ->check(finite_in(1, 100000))->capture_default_str();
   cmd->add_option("--disparity-sigma", a->vo.disparity_sigma_px, "stereo noise in px")
+      ->check(finite_in(0, 100))
       ->capture_default_str();
   cmd->add_option("--drift", a->vo.drift_translation_per_m, "VO drift, m per m travelled")
+      ->check(finite_in(0, 1))
       ->capture_default_str();
   cmd->add_option("--drift-rotation", a->vo.drift_rotation_deg_per_m, "VO drift, deg per m")
+      ->check(finite_in(0, 90))
       ->capture_default_str();
-  cmd->add_option("--resets", a->resets, "keyframe ids where the VO restarts")->delimiter(',');
+  cmd->add_option("--resets", a->resets, "keyframe ids where the VO restarts")
+      ->check(finite_in(0, kMaxCount))->delimiter(',');
   cmd->add_option("--out", a->out, "output directory")->required();
   run_writing_dir(cmd, a, run_simulate);
 }

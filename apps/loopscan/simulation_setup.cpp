@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "loopscan/io/atomic_file.hpp"
+#include "loopscan/io/camera_settings.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/vo_files.hpp"
 
@@ -98,6 +99,20 @@ void write_session(const std::string& dir, const LoadedTrajectory& t, const Sess
     io::write_kitti_poses(dir + "/gt.txt", gt);
   }
   io::write_file_atomic(dir + "/world.json", s.parameters.dump(1) + "\n");
+}
+
+sim::StereoCamera load_camera(const std::string& yaml_path) {
+  sim::StereoCamera c;
+  if (yaml_path.empty()) return c;
+  const io::StereoSettings s = io::read_orbslam_stereo(yaml_path);
+  c.fx = s.fx;
+  c.fy = s.fy;
+  c.cx = s.cx;
+  c.cy = s.cy;
+  c.width = s.width;
+  c.height = s.height;
+  c.bf = s.bf;
+  return c;
 }
 
 }  // namespace loopscan::cli

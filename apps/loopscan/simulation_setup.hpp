@@ -18,6 +18,9 @@ struct LoadedTrajectory {
 // "builtin:city" | "builtin:short" | "kitti:FILE" | "robotcar:FILE".
 LoadedTrajectory load_trajectory(const std::string& spec);
 
+// The KITTI 04-12 camera, or the one an ORB-SLAM2 settings yaml describes (--calib).
+sim::StereoCamera load_camera(const std::string& yaml_path);
+
 struct Session {
   sim::VoOutput vo;
   std::vector<int> keyframe_ids;

@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "loopscan/baselines/describe_images.hpp"
 #include "loopscan/baselines/vocabulary_io.hpp"
+#include "options.hpp"
 #include "output_sets.hpp"
 
 namespace loopscan::cli {
@@ -55,11 +56,16 @@ void add_vocab_command(CLI::App& app) {
   CLI::App* train = vocab->add_subcommand("train", "Train a vocabulary tree on ORB features");
   train->add_option("--kitti", a->kitti, "KITTI-layout sequence(s)")->required();
   train->add_option("--out", a->out, "vocabulary file")->required();
-  train->add_option("--k", a->branching, "branching factor")->capture_default_str();
-  train->add_option("--depth", a->depth, "levels")->capture_default_str();
-  train->add_option("--features", a->features, "ORB features per image")->capture_default_str();
-  train->add_option("--step", a->step, "use every step-th frame")->capture_default_str();
+  train->add_option("--k", a->branching, "branching factor")
+      ->check(finite_in(2, 100))->capture_default_str();
+  train->add_option("--depth", a->depth, "levels")
+      ->check(finite_in(1, 10))->capture_default_str();
+  train->add_option("--features", a->features, "ORB features per image")
+      ->check(finite_in(1, 100000))->capture_default_str();
+  train->add_option("--step", a->step, "use every step-th frame")
+      ->check(finite_in(1, kMaxCount))->capture_default_str();
   train->add_option("--iterations", a->iterations, "k-majority rounds per node")
+      ->check(finite_in(1, 1000))
       ->capture_default_str();
   train->add_option("--seed", a->seed, "clustering seed")->capture_default_str();
   train->add_flag("--text", a->text, "write ORBvoc.txt's text format instead of binary");

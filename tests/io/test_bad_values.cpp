@@ -98,8 +98,8 @@ class PatchedDatabase : public BadValues {
   std::string patched(std::size_t offset, T value) {
     std::string bytes = saved();
     std::memcpy(&bytes[offset], &value, sizeof value);
-    const auto crc = static_cast<std::uint32_t>(
-        crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size() - 4)));
+    const auto crc = static_cast<std::uint32_t>(crc32(
+        0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(bytes.size() - 4)));
     std::memcpy(&bytes[bytes.size() - 4], &crc, 4);
     return file("patched.db", bytes);
   }
@@ -113,13 +113,16 @@ class PatchedDatabase : public BadValues {
 
 TEST_F(PatchedDatabase, ValidChecksumButImpossibleValuesAreRejected) {
   EXPECT_EQ(load_database(patched(kPayload, 2.0f)).size(), 1u);  // the patch itself is sound
-  EXPECT_TRUE(has(load_error(patched(20, -1e308)), "structure weight")) << load_error(patched(20, -1e308));
+  EXPECT_TRUE(has(load_error(patched(20, -1e308)), "structure weight"))
+      << load_error(patched(20, -1e308));
   EXPECT_TRUE(has(load_error(patched(20, std::nan(""))), "structure weight"));
   const std::string nan_payload = load_error(patched(kPayload + 8, std::nanf("")));
   EXPECT_TRUE(has(nan_payload, "place 0") && has(nan_payload, "NaN")) << nan_payload;
-  EXPECT_TRUE(has(load_error(patched(kPayload, std::numeric_limits<float>::infinity())), "place 0"));
+  EXPECT_TRUE(
+      has(load_error(patched(kPayload, std::numeric_limits<float>::infinity())), "place 0"));
   EXPECT_TRUE(has(load_error(patched(kFrame, 2.0f)), "not a rotation"));
-  EXPECT_TRUE(has(load_error(patched(kPose + 24, std::numeric_limits<double>::infinity())), "pose"));
+  EXPECT_TRUE(
+      has(load_error(patched(kPose + 24, std::numeric_limits<double>::infinity())), "pose"));
   EXPECT_TRUE(has(load_error(patched(kPlace, std::int32_t{-5})), ">= 0"));
 }
 

@@ -84,7 +84,9 @@ TEST(Png, ColourWeightsPalettesAndLowBitDepths) {
   test::PngSpec rgb{3, 1, 2, 8, 0, 0, {255, 0, 0, 0, 255, 0, 0, 0, 255}, ""};
   EXPECT_EQ(decode(test::encode_png(rgb)).pixels, (std::vector<std::uint8_t>{76, 149, 29}));
   // A 2-bit palette image: indices 0..3 through the palette's colours.
-  test::PngSpec pal{4, 1, 3, 2, 0, 0, {0x1B}, std::string("\x00\x00\x00\xff\xff\xff\x80\x80\x80\xff\x00\x00", 12)};
+  test::PngSpec pal{
+      4, 1, 3,      2,
+      0, 0, {0x1B}, std::string("\x00\x00\x00\xff\xff\xff\x80\x80\x80\xff\x00\x00", 12)};
   EXPECT_EQ(decode(test::encode_png(pal)).pixels, (std::vector<std::uint8_t>{0, 255, 128, 76}));
   // 1, 2 and 4-bit gray scale to 0..255; rows are padded to whole bytes.
   test::PngSpec g1{10, 1, 0, 1, 0, 0, {0xA5, 0xC0}, ""};
@@ -122,8 +124,9 @@ TEST(Png, DamagedUnsupportedOrOversizedFilesAreClearErrors) {
             std::string::npos);
   // A palette image without PLTE, and an index past the palette's end.
   EXPECT_NE(error_of(test::encode_png({5, 4, 3, 8, 0, 0, px, ""})).find("PLTE"), std::string::npos);
-  EXPECT_NE(error_of(test::encode_png({5, 4, 3, 8, 0, 0, px, std::string(6, '\0')})).find("palette"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(test::encode_png({5, 4, 3, 8, 0, 0, px, std::string(6, '\0')})).find("palette"),
+      std::string::npos);
   // 65535 x 65535 announced in the header: refused before any allocation, naming the limit.
   const std::string e = error_of(test::png_announcing(65535, 65535));
   EXPECT_NE(e.find("65535x65535"), std::string::npos) << e;

@@ -234,46 +234,6 @@ TEST(SimTrajectory, RobotCarGpsLoadsWithContinuousHeading) {
   EXPECT_GT(checked, 400);
 }
 
-TEST(SimTrajectory, StereoCameraReadsKittiYaml) {
-  REQUIRE_SHARED_FILE(path, "data/kitti/calib/KITTI04-12.yaml");
-  const StereoCamera c = StereoCamera::read_orbslam_yaml(path);
-  EXPECT_EQ(Eigen::Vector4d(c.fx, c.fy, c.cx, c.cy),
-            Eigen::Vector4d(707.0912, 707.0912, 601.8873, 183.1104));
-  EXPECT_EQ(Eigen::Vector3d(c.width, c.height, c.bf), Eigen::Vector3d(1241, 376, 379.8145));
-  EXPECT_NEAR(c.baseline(), 0.537, 0.001);
-}
-
-std::string write_temp(const std::string& name, const std::string& text) {
-  const std::string path = (std::filesystem::temp_directory_path() / name).string();
-  std::ofstream(path) << text;
-  return path;
-}
-
-std::string read_error(const std::string& path) {
-  try {
-    StereoCamera::read_orbslam_yaml(path);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
-TEST(SimTrajectory, StereoCameraReportsMissingKeyAndBadValue) {
-  const std::string body =
-      "%YAML:1.0\n# comment\nCamera.fx: 700.5\nCamera.fy: 700.5\nCamera.cx: 600\n"
-      "Camera.cy: 180\nCamera.width: 1241\nCamera.height: 376\n";
-  const std::string missing = write_temp("loopscan_sim_camera_missing_bf.yaml", body);
-  const std::string what = read_error(missing);
-  EXPECT_NE(what.find("Camera.bf"), std::string::npos) << what;
-  EXPECT_NE(what.find(missing), std::string::npos) << what;
-  const std::string bad = write_temp("loopscan_sim_camera_bad_bf.yaml", body + "Camera.bf: 3x\n");
-  EXPECT_NE(read_error(bad).find(bad + ":9"), std::string::npos) << read_error(bad);
-  const std::string good = write_temp("loopscan_sim_camera_good.yaml", body + "Camera.bf: 380.0\n");
-  EXPECT_DOUBLE_EQ(StereoCamera::read_orbslam_yaml(good).bf, 380.0);
-  EXPECT_NE(read_error(missing + ".absent"), "(no error)");
-  for (const std::string& path : {missing, bad, good}) std::filesystem::remove(path);
-}
-
 TEST(SimTrajectory, StereoCameraProjectRayRoundTrip) {
   StereoCamera cam;
   cam.fy = 0.9 * cam.fx;  // non-square pixels catch swapped focal lengths

@@ -35,8 +35,8 @@ std::string error_of(const std::function<void()>& f) {
 }
 
 // Expects `f` to throw InputError "<path>:<line>: expected ...<part>..." (no line when 0).
-inline void expect_input_error(const std::function<void()>& f, const std::string& path, std::size_t line,
-                        const std::string& part) {
+inline void expect_input_error(const std::function<void()>& f, const std::string& path,
+                               std::size_t line, const std::string& part) {
   const std::string msg = error_of(f);
   const std::string where = line > 0 ? path + ":" + std::to_string(line) + ":" : path + ":";
   EXPECT_EQ(msg.rfind(where + " expected ", 0), 0u) << msg;

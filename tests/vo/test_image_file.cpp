@@ -48,7 +48,8 @@ TEST(ImageFile, PngDecoderAgreesWithOpenCvOnEveryKindOpenCvWrites) {
     ASSERT_EQ(ours.size(), theirs.size()) << c.name;
     double worst = 0;  // the same conversion, bit for bit
     cv::minMaxLoc(cv::abs(ours - theirs) + cv::abs(theirs - ours), nullptr, &worst);
-    EXPECT_EQ(worst, 0.0) << c.name << ": " << cv::countNonZero(ours != theirs) << " differ";  // the same weights; rounding may differ by one level
+    EXPECT_EQ(worst, 0.0) << c.name << ": " << cv::countNonZero(ours != theirs)
+                          << " differ";  // the same weights; rounding may differ by one level
     if (c.type == CV_8UC1) {
       EXPECT_EQ(cv::countNonZero(ours != written), 0);
     }

@@ -1,10 +1,18 @@
 #include "loopscan/baselines/inverted_index.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace loopscan::baselines {
 
 int InvertedIndex::add(const BowVector& v) {
+  for (const auto& [word, weight] : v) {
+    if (word < 0 || word > kMaxWord) {
+      throw std::invalid_argument("InvertedIndex::add: word id " + std::to_string(word) +
+                                  " outside 0.." + std::to_string(kMaxWord));
+    }
+  }
   const int id = static_cast<int>(images_++);
   for (const auto& [word, weight] : v) {
     if (word >= static_cast<int>(postings_.size())) postings_.resize(static_cast<std::size_t>(word) + 1);

@@ -16,7 +16,10 @@ struct BowMatch {
 class InvertedIndex {
  public:
   explicit InvertedIndex(std::size_t words = 0) : postings_(words) {}
-  int add(const BowVector& v);  // returns the image id (0, 1, ...)
+  // Returns the image id (0, 1, ...). Throws std::invalid_argument for a negative word id or one
+  // above kMaxWord (the postings table grows to the largest word id).
+  int add(const BowVector& v);
+  static constexpr int kMaxWord = (1 << 24) - 1;
   std::size_t size() const { return images_; }
   // The k best images by score (ties: lower id first) among those `accept` allows (all if empty).
   std::vector<BowMatch> query(const BowVector& q, int k,

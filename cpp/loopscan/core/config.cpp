@@ -22,7 +22,8 @@ std::string got(double v) { return " (got " + std::to_string(v) + ")"; }
 
 void validate(const ImitationConfig& c) {
   const char* name = "ImitationConfig";
-  need(in(c.range_m, 0.1, kMaxRangeM) , name, "range_m must be a finite number in [0.1, 1000] m" + got(c.range_m));
+  need(in(c.range_m, 0.1, kMaxRangeM), name,
+       "range_m must be a finite number in [0.1, 1000] m" + got(c.range_m));
   need(c.init_frames >= 0 && c.init_frames <= 100000, name, "init_frames must be in [0, 100000]");
   need(c.voxel_divisions_xz >= 1 && c.voxel_divisions_y >= 1, name, "voxel divisions must be >= 1");
   // Cartesian cells: (2 d_xz + 1)^2 (2 d_y + 1); polar cells: (360/res + 1)(180/res + 1).
@@ -44,8 +45,7 @@ void validate(const ScanContextConfig& c) {
 
 void validate(const M2dpConfig& c) {
   const char* name = "M2dpConfig";
-  need(c.azimuth_bins >= 1 && c.azimuth_bins <= 1000 && c.radial_bins >= 1 &&
-           c.radial_bins <= 1000,
+  need(c.azimuth_bins >= 1 && c.azimuth_bins <= 1000 && c.radial_bins >= 1 && c.radial_bins <= 1000,
        name, "azimuth_bins and radial_bins must be in [1, 1000]");
   need(c.plane_azimuths >= 1 && c.plane_azimuths <= 1000 && c.plane_elevations >= 1 &&
            c.plane_elevations <= 1000,

@@ -5,6 +5,7 @@
 
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/errors.hpp"
+#include "loopscan/io/limits.hpp"
 #include "loopscan/io/line_reader.hpp"
 #include "loopscan/io/parse_numbers.hpp"
 
@@ -24,7 +25,9 @@ std::vector<SparseVector> read_bow_vectors(const std::string& path) {
   LineReader reader(path);
   std::string_view line;
   std::vector<SparseVector> out;
-  const char* expected = "`word weight` pairs: word ids increasing from 0, weights finite and > 0";
+  const std::string expected =
+      "`word weight` pairs: word ids increasing from 0 (at most " +
+      std::to_string(limits::kMaxWordId) + "), weights finite and > 0";
   while (reader.next(line)) {
     SparseVector v;
     Tokenizer t(line);
@@ -32,7 +35,8 @@ std::vector<SparseVector> read_bow_vectors(const std::string& path) {
     while (t.next(tok)) {
       int word = 0;
       float weight = 0;
-      if (!parse_number(tok, word) || word < 0 || (!v.empty() && word <= v.back().first) ||
+      if (!parse_number(tok, word) || word < 0 || word > limits::kMaxWordId ||
+          (!v.empty() && word <= v.back().first) ||
           !t.next(tok) || !parse_number(tok, weight) || !std::isfinite(weight) || weight <= 0) {
         throw InputError(path, reader.line_number(), expected);
       }

@@ -18,4 +18,7 @@ constexpr int kMaxImageSide = 32768;
 constexpr std::int64_t kMaxImagePixels = std::int64_t{1} << 26;
 constexpr std::size_t kMaxImageFileBytes = std::size_t{256} << 20;
 
+// Bag-of-words: word ids (ORBvoc.txt has 10^6 words; k 10, L 7 would have 10^7).
+constexpr int kMaxWordId = (1 << 24) - 1;
+
 }  // namespace loopscan::io::limits

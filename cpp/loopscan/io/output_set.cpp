@@ -59,8 +59,8 @@ OutputSet::OutputSet(const std::string& target, Kind kind, const std::string& ma
   parent_ = p.has_parent_path() ? p.parent_path().string() : ".";
   fs::create_directories(parent_, ec);
   if (ec) {
-    throw std::runtime_error("cannot write '" + target_ + "': cannot create directory '" +
-                             parent_ + "': " + ec.message());
+    throw std::runtime_error("cannot write '" + target_ + "': cannot create directory '" + parent_ +
+                             "': " + ec.message());
   }
   lock_path_ = parent_ + "/." + name_ + ".lock";
   acquire_lock();
@@ -107,7 +107,8 @@ void OutputSet::acquire_lock() {
                        "no other loopscan command writing it (pid " + pid + " holds '" +
                            lock_path_ + "'; wait for it or choose another output)");
     }
-    struct stat held {}, now {};
+    struct stat held {
+    }, now{};
     if (::fstat(lock_fd_, &held) == 0 && ::stat(lock_path_.c_str(), &now) == 0 &&
         held.st_ino == now.st_ino && held.st_dev == now.st_dev) {
       const std::string pid = std::to_string(::getpid());
@@ -168,7 +169,8 @@ void OutputSet::commit() {
       // No RENAME_EXCHANGE here: move the old set aside, then the new one in. A kill between
       // the two leaves `.<name>.old.<pid>`, which the next run renames back.
       const std::string aside = parent_ + "/." + name_ + ".old." + std::to_string(::getpid());
-      if (::rename(target_.c_str(), aside.c_str()) != 0) fail_system(target_, "cannot move the old set");
+      if (::rename(target_.c_str(), aside.c_str()) != 0)
+        fail_system(target_, "cannot move the old set");
       if (::rename(write_path_.c_str(), target_.c_str()) != 0) {
         ::rename(aside.c_str(), target_.c_str());
         fail_system(target_, "cannot move the new output set into place");

@@ -37,7 +37,8 @@ Header parse_header(const std::string& path, const unsigned char* d) {
   h.channels = h.colour < 7 ? kChannels[h.colour] : 0;
   const bool depth_ok =
       h.channels != 0 &&
-      (h.colour == 0 ? (h.depth == 1 || h.depth == 2 || h.depth == 4 || h.depth == 8 || h.depth == 16)
+      (h.colour == 0
+           ? (h.depth == 1 || h.depth == 2 || h.depth == 4 || h.depth == 8 || h.depth == 16)
        : h.colour == 3 ? (h.depth == 1 || h.depth == 2 || h.depth == 4 || h.depth == 8)
                        : (h.depth == 8 || h.depth == 16));
   if (!depth_ok || d[10] != 0 || d[11] != 0) {
@@ -50,9 +51,10 @@ Header parse_header(const std::string& path, const unsigned char* d) {
       hh > std::uint32_t(limits::kMaxImageSide) ||
       std::int64_t(w) * std::int64_t(hh) > limits::kMaxImagePixels) {
     throw InputError(path, 0,
-                     "an image of 1.." + std::to_string(limits::kMaxImageSide) + " px a side and at most " +
-                         std::to_string(limits::kMaxImagePixels) + " pixels (header says " +
-                         std::to_string(w) + "x" + std::to_string(hh) + ")");
+                     "an image of 1.." + std::to_string(limits::kMaxImageSide) +
+                         " px a side and at most " + std::to_string(limits::kMaxImagePixels) +
+                         " pixels (header says " + std::to_string(w) + "x" + std::to_string(hh) +
+                         ")");
   }
   h.width = static_cast<int>(w);
   h.height = static_cast<int>(hh);
@@ -70,8 +72,9 @@ void unfilter(const std::string& path, const Header& h, unsigned char* raw) {
     unsigned char* cur = row + 1;
     const unsigned char* up = y > 0 ? cur - stride : nullptr;
     if (filter > 4) {
-      throw InputError(path, 0, "PNG row filter 0..4 (row " + std::to_string(y) + " has " +
-                                    std::to_string(filter) + ")");
+      throw InputError(
+          path, 0,
+          "PNG row filter 0..4 (row " + std::to_string(y) + " has " + std::to_string(filter) + ")");
     }
     for (std::size_t x = 0; x < h.row_bytes; ++x) {
       const int a = x >= bpp ? cur[x - bpp] : 0, b = up ? up[x] : 0;
@@ -114,8 +117,9 @@ GrayPng read_png_gray(const std::string& path) {
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) throw InputError(path, 0, "a readable PNG file");
   if (size > limits::kMaxImageFileBytes) {
-    throw InputError(path, 0, "an image file of at most " +
-                                  std::to_string(limits::kMaxImageFileBytes >> 20) + " MiB");
+    throw InputError(
+        path, 0,
+        "an image file of at most " + std::to_string(limits::kMaxImageFileBytes >> 20) + " MiB");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "a readable PNG file");
@@ -141,7 +145,8 @@ GrayPng read_png_gray(const std::string& path) {
       h = parse_header(path, data);
       header = true;
     } else if (type == "PLTE") {
-      if (len == 0 || len % 3 != 0 || len > 768) throw InputError(path, 0, "a PLTE chunk of 1..256 RGB entries");
+      if (len == 0 || len % 3 != 0 || len > 768)
+        throw InputError(path, 0, "a PLTE chunk of 1..256 RGB entries");
       palette.assign(reinterpret_cast<const char*>(data), len);
     } else if (type == "IDAT") {
       idat.append(reinterpret_cast<const char*>(data), len);

@@ -1,8 +1,6 @@
 #pragma once
-// Rectified pinhole stereo camera (KITTI camera frame: x right, y down, z forward), readable from
-// an ORB-SLAM2-style settings yaml.
-#include <string>
-
+// Rectified pinhole stereo camera (KITTI camera frame: x right, y down, z forward); files with
+// its settings are read by io::read_orbslam_stereo.
 #include <Eigen/Core>
 
 namespace loopscan::sim {
@@ -11,11 +9,6 @@ struct StereoCamera {
   double fx = 718.856, fy = 718.856, cx = 607.1928, cy = 185.2157;
   int width = 1241, height = 376;
   double bf = 386.1448;  // focal * baseline, px * m
-
-  // Reads Camera.fx, fy, cx, cy, width, height, bf from lines like `Camera.fx: 707.0912` ('%' and
-  // '#' lines are comments; other keys are ignored). Missing key -> std::runtime_error naming the
-  // key and file; unreadable file or bad value -> std::runtime_error with file and line.
-  static StereoCamera read_orbslam_yaml(const std::string& path);
 
   // Pixel (u, v) of a camera-frame point; pixel centres at integer coordinates, the image covers
   // [-0.5, width - 0.5) x [-0.5, height - 0.5). False if z <= 0 (pixel untouched) or outside the

@@ -21,8 +21,8 @@ bool jpeg_size(const std::string& head, int& width, int& height) {
   while (at + 9 <= head.size() && p[at] == 0xFF) {
     const int marker = p[at + 1];
     const std::size_t len = (std::size_t(p[at + 2]) << 8) | p[at + 3];
-    const bool sof = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 &&
-                     marker != 0xCC;
+    const bool sof =
+        marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
     if (sof) {
       height = (p[at + 5] << 8) | p[at + 6];
       width = (p[at + 7] << 8) | p[at + 8];
@@ -39,9 +39,9 @@ void check_size(const std::string& path, std::int64_t width, std::int64_t height
       height > io::limits::kMaxImageSide || width * height > io::limits::kMaxImagePixels) {
     throw io::InputError(path, 0,
                          "an image of 1.." + std::to_string(io::limits::kMaxImageSide) +
-                             " px a side and at most " + std::to_string(io::limits::kMaxImagePixels) +
-                             " pixels (found " + std::to_string(width) + "x" +
-                             std::to_string(height) + ")");
+                             " px a side and at most " +
+                             std::to_string(io::limits::kMaxImagePixels) + " pixels (found " +
+                             std::to_string(width) + "x" + std::to_string(height) + ")");
   }
 }
 
@@ -54,8 +54,9 @@ cv::Mat read_gray_image(const std::string& path) {
     throw io::InputError(path, 0, "a readable image (PNG, JPEG, ...)");
   }
   if (bytes > io::limits::kMaxImageFileBytes) {
-    throw io::InputError(path, 0, "an image file of at most " +
-                                      std::to_string(io::limits::kMaxImageFileBytes >> 20) + " MiB");
+    throw io::InputError(path, 0,
+                         "an image file of at most " +
+                             std::to_string(io::limits::kMaxImageFileBytes >> 20) + " MiB");
   }
   std::string head(65536, '\0');
   std::ifstream in(path, std::ios::binary);

@@ -31,7 +31,8 @@ void validate(const QueryOptions& o, int k) {
   need(o.candidates >= 1 && o.candidates <= 1000000, who, "candidates must be in [1, 1000000]");
   need(o.index_pool_factor >= 1 && o.index_pool_factor <= 1000, who,
        "index_pool_factor must be in [1, 1000]");
-  need(o.stats_sample >= 2 && o.stats_sample <= 1000000, who, "stats_sample must be in [2, 1000000]");
+  need(o.stats_sample >= 2 && o.stats_sample <= 1000000, who,
+       "stats_sample must be in [2, 1000000]");
   need(o.exclude_recent >= 0, who, "exclude_recent must be >= 0");
   need(in(o.uniqueness_ratio, 0.0, 1.0), who, "uniqueness_ratio must be in [0, 1]");
   need(!std::isnan(o.max_distance), who, "max_distance must not be NaN");
