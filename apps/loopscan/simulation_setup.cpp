@@ -5,6 +5,7 @@
 
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/camera_settings.hpp"
+#include "loopscan/io/errors.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/vo_files.hpp"
 
@@ -28,6 +29,9 @@ LoadedTrajectory load_trajectory(const std::string& spec) {
                                 "' (expected builtin:city, builtin:short, kitti:FILE or "
                                 "robotcar:FILE)");
   }
+  // A world is built along the route: refuse one too large to build, naming the file.
+  const std::string problem = sim::route_size_problem(t.trajectory.centres(), sim::WorldConfig{});
+  if (!problem.empty()) throw io::InputError(arg, 0, problem);
   return t;
 }
 

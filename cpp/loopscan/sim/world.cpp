@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <random>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -17,6 +18,9 @@ namespace {
 std::shared_ptr<StaticWorld> start_world(const std::vector<Eigen::Vector3d>& centreline,
                                          const WorldConfig& config) {
   config.validate();
+  if (const std::string problem = route_size_problem(centreline, config); !problem.empty()) {
+    throw std::invalid_argument("World: expected " + problem);
+  }
   auto w = std::make_shared<StaticWorld>();
   w->config = config;
   w->input_points = centreline.size();

@@ -1,5 +1,7 @@
 #include "loopscan/sim/world_config.hpp"
 
+#include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -54,6 +56,40 @@ void WorldConfig::validate() const {
   need(car_slot_spacing_m > 0.0, "car_slot_spacing_m must be > 0");
   need(car_occupancy >= 0.0 && car_occupancy <= 1.0, "car_occupancy in [0, 1]");
   need(grid_cell_m > 0.0, "grid_cell_m must be > 0");
+  need(max_route_length_m > 0.0 && max_extent_m > 0.0, "route bounds must be > 0");
+}
+
+std::string route_size_problem(const std::vector<Eigen::Vector3d>& centreline,
+                               const WorldConfig& config) {
+  if (centreline.empty()) return "";
+  double length = 0, largest_step = 0;
+  std::size_t step_at = 0;
+  Eigen::Vector3d lo = centreline.front(), hi = lo;
+  for (std::size_t i = 0; i < centreline.size(); ++i) {
+    const Eigen::Vector3d& p = centreline[i];
+    if (!p.allFinite()) return "finite positions (frame " + std::to_string(i) + " is not)";
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+    if (i == 0) continue;
+    const double step = (p - centreline[i - 1]).norm();
+    length += step;
+    if (step > largest_step) {
+      largest_step = step;
+      step_at = i;
+    }
+  }
+  const Eigen::Vector3d size = hi - lo;
+  const double extent = std::max(size.x(), size.z());  // the ground plane (y is down)
+  char buf[320];
+  if (length > config.max_route_length_m || extent > config.max_extent_m) {
+    std::snprintf(buf, sizeof buf,
+                  "a route of at most %.0f km spanning at most %.0f km (this one is %.1f km long "
+                  "and spans %.1f km; its largest step is %.1f m, between frames %zu and %zu)",
+                  config.max_route_length_m / 1e3, config.max_extent_m / 1e3, length / 1e3,
+                  extent / 1e3, largest_step, step_at - 1, step_at);
+    return buf;
+  }
+  return "";
 }
 
 nlohmann::json to_json(const WorldConfig& c) {

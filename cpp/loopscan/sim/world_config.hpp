@@ -1,7 +1,9 @@
 #pragma once
 // Parameters of the synthetic street world and the surface classes a ray can hit.
 #include <string>
+#include <vector>
 
+#include <Eigen/Core>
 #include <nlohmann/json_fwd.hpp>
 
 namespace loopscan::sim {
@@ -45,8 +47,18 @@ struct WorldConfig {
 
   double grid_cell_m = 10.0;  // ray-casting acceleration grid
 
+  // Bounds on the route a world is built along (time and memory grow with both): far above
+  // any real drive (KITTI 00-10 < 4 km and 1 km across, RobotCar ~10 km and 2 km across).
+  double max_route_length_m = 100e3;
+  double max_extent_m = 20e3;  // each side of the route's bounding box
+
   void validate() const;  // throws std::invalid_argument on inconsistent values
 };
+
+// Why a world along `centreline` would exceed config's bounds (route length, extent, non-finite
+// points), naming the largest step between consecutive points; empty when it would not.
+std::string route_size_problem(const std::vector<Eigen::Vector3d>& centreline,
+                               const WorldConfig& config);
 
 nlohmann::json to_json(const WorldConfig& config);
 

@@ -1,0 +1,144 @@
+// The CLI under hostile input: option values, files that imply unbounded time or memory,
+// values that parse but make no sense, and output directories shared or not ours. Every case
+// must end quickly with exit code 2 and a message naming the culprit, writing nothing.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <fstream>
+
+#include "cli/cli_support.hpp"
+#include "loopscan/io/output_set.hpp"
+#include "support/png_encoder.hpp"
+
+namespace loopscan {
+namespace {
+
+using namespace loopscan::test;
+
+bool has(const CliResult& r, const std::string& part) {
+  return r.output.find(part) != std::string::npos;
+}
+
+std::string describe_args(const fs::path& d) {
+  return "describe --method sc --poses " + (d / "poses.txt").string() + " --points " +
+         (d / "pts.txt").string();
+}
+
+TEST(CliHardening, OptionValuesOutsideTheirRangeAreRefused) {
+  const fs::path d = temp_dir("options");
+  write_sequence(d, 40);
+  const std::string out = " --out " + (d / "o").string();
+  for (const std::string& bad :
+       {" --threads 200000000", " --threads 0", " --range inf", " --range 1e308", " --range nan",
+        " --range -5", " --threads x"}) {
+    const CliResult r = run(describe_args(d) + bad + out);
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
+    EXPECT_TRUE(has(r, bad.substr(1, bad.find(' ', 1) - 1))) << r.output;  // names the option
+  }
+  EXPECT_EQ(run("db query --db x --signatures y --k 0 --out " + (d / "q").string()).code, 2);
+  EXPECT_EQ(run("db query --db x --signatures y --uniqueness nan --out " + (d / "q").string()).code, 2);
+  EXPECT_EQ(run("vocab train --kitti x --k 1000 --out " + (d / "v").string()).code, 2);
+  EXPECT_EQ(run("render --trajectory builtin:short --scale 0 --out " + (d / "r").string()).code, 2);
+  EXPECT_EQ(run("simulate --trajectory builtin:short --drift nan --out " + (d / "s").string()).code, 2);
+  EXPECT_FALSE(fs::exists(d / "o") || fs::exists(d / "q") || fs::exists(d / "r"));
+  // In range: the same run works and describes on many threads identically.
+  ASSERT_EQ(run(describe_args(d) + " --threads 3 --range 45" + out).code, 0);
+}
+
+TEST(CliHardening, UnboundedInputsEndInAClearErrorFast) {
+  const fs::path d = temp_dir("unbounded");
+  write_sequence(d, 40);
+  const auto t0 = std::chrono::steady_clock::now();
+  // A KITTI sequence whose images announce 65535 x 65535 pixels.
+  fs::create_directories(d / "seq/image_0");
+  fs::create_directories(d / "seq/image_1");
+  write(d / "seq/calib.txt", "P0: 700 0 600 0 0 700 180 0 0 0 1 0\nP1: 700 0 600 -380 0 700 180 0 0 0 1 0\n");
+  write(d / "seq/times.txt", "0\n0.1\n");
+  for (const char* f : {"image_0/000000.png", "image_0/000001.png", "image_1/000000.png", "image_1/000001.png"}) {
+    std::ofstream(d / "seq" / f, std::ios::binary) << png_announcing(65535, 65535);
+  }
+  // An endless line (like /dev/zero): the text reader stops at its line bound.
+  CliResult r = run("describe --method sc --poses " + (d / "poses.txt").string() +
+                    " --points /dev/zero --out " + (d / "o").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "/dev/zero:1: expected lines of at most 4 MiB")) << r.output;
+  write(d / "kf/incoming_id_file.txt", "0\n");
+  r = run("describe --method bow --kitti " + (d / "seq").string() + " --keyframes " +
+          (d / "kf").string() + " --vocab /dev/zero --out " + (d / "b").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "/dev/zero:1: expected lines")) << r.output;
+  // A trajectory with one 1000 km jump: no world is built for it.
+  std::ofstream jump(d / "jump.txt");
+  for (int i = 0; i < 30; ++i) jump << "1 0 0 0 0 1 0 0 0 0 1 " << (i == 10 ? 1e6 : i) << "\n";
+  jump.close();
+  r = run("simulate --trajectory kitti:" + (d / "jump.txt").string() + " --out " + (d / "s").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "jump.txt: expected a route of at most 100 km")) << r.output;
+  EXPECT_TRUE(has(r, "between frames 9 and 10")) << r.output;
+  r = run("vo --kitti " + (d / "seq").string() + " --quiet --out " + (d / "vo").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "000000.png: expected an image of 1..32768 px a side")) << r.output;
+  EXPECT_FALSE(has(r, "libpng")) << r.output;
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(s, 60.0);  // generous: a sanitizer build; unbounded inputs used to take minutes
+}
+
+TEST(CliHardening, ValuesThatParseButMakeNoSenseAreRefused) {
+  const fs::path d = temp_dir("values");
+  write_sequence(d, 40);
+  ASSERT_EQ(run(describe_args(d) + " --out " + (d / "sc").string()).code, 0);
+  // frames.txt must hold rotations, signatures finite numbers.
+  const std::vector<std::string> frames = read_lines(d / "sc/frames.txt");
+  write(d / "sc/frames.txt", "nan 0 0 0 1 0 0 0 1\n");
+  CliResult r = run("evaluate --method sc --signatures " + (d / "sc").string() + " --gt " +
+                    (d / "poses.txt").string() + " --out " + (d / "e").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "frames.txt:1: expected")) << r.output;
+  // Labels of `pairs` are 0 or 1; the error names the format.
+  for (const char* label : {"nan", "2", "0.5", "1e308"}) {
+    write(d / "pairs.txt", std::string("0.9 1\n0.4 ") + label + "\n");
+    r = run("pairs --scores " + (d / "pairs.txt").string() + " --out " + (d / "p").string());
+    EXPECT_EQ(r.code, 2) << label;
+    EXPECT_TRUE(has(r, "pairs.txt:2: expected `score label`")) << r.output;
+  }
+  // A camera yaml with a bad value: exit 2 (it was 1), with file and line.
+  write(d / "cam.yaml", "Camera.fx: 700\nCamera.fy: 700\nCamera.cx: 600\nCamera.cy: 180\n"
+                        "Camera.width: 1241\nCamera.height: 376\nCamera.bf: -1\n");
+  r = run("render --trajectory builtin:short --frames 1 --calib " + (d / "cam.yaml").string() +
+          " --out " + (d / "r").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "cam.yaml:7: expected Camera.bf")) << r.output;
+  EXPECT_FALSE(fs::exists(d / "e") || fs::exists(d / "p") || fs::exists(d / "r"));
+}
+
+TEST(CliHardening, OutputDirectoriesAreOursAloneAndNeverHoldTheInputs) {
+  const fs::path d = temp_dir("outputs");
+  write_sequence(d, 40);
+  // A directory with someone else's files is not replaced.
+  write(d / "mine/notes.txt", "keep");
+  CliResult r = run(describe_args(d) + " --out " + (d / "mine").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "no .loopscan marker")) << r.output;
+  EXPECT_EQ(file_bytes(d / "mine/notes.txt"), "keep");
+  // Inputs inside the output directory would be replaced with it: refused.
+  ASSERT_EQ(run(describe_args(d) + " --out " + (d / "sc").string()).code, 0);
+  r = run("evaluate --method sc --signatures " + (d / "sc").string() + " --gt " +
+          (d / "poses.txt").string() + " --out " + (d / "sc").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "lies inside the output directory")) << r.output;
+  EXPECT_TRUE(fs::exists(d / "sc/signatures.txt"));
+  // A second command on the same output is refused while the first holds it.
+  {
+    io::OutputSet busy((d / "sc").string(), io::OutputSet::Kind::Directory);
+    r = run(describe_args(d) + " --out " + (d / "sc").string());
+    EXPECT_EQ(r.code, 2);
+    EXPECT_TRUE(has(r, "no other loopscan command writing it")) << r.output;
+  }
+  // Re-running over a loopscan output replaces it as a whole.
+  ASSERT_EQ(run(describe_args(d) + " --range 30 --out " + (d / "sc").string()).code, 0);
+  EXPECT_NE(file_bytes(d / "sc/.loopscan").find("--range 30"), std::string::npos);
+  EXPECT_FALSE(has_temp_files(d));
+}
+
+}  // namespace
+}  // namespace loopscan

@@ -1,0 +1,186 @@
+// The `loopscan` CLI: simulate, the place database and render.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "loopscan/io/errors.hpp"
+#include "loopscan/io/kitti_sequence.hpp"
+#include "loopscan/io/png.hpp"
+
+#include "cli/cli_support.hpp"
+#include "support/test_support.hpp"
+
+namespace loopscan {
+namespace {
+
+using namespace loopscan::test;
+
+TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
+  const fs::path d = temp_dir("simulate");
+  const CliResult r = run("simulate --trajectory builtin:short --season winter --seed 3 --out " +
+                          (d / "sim").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "gt.txt", "world.json"}) {
+    EXPECT_TRUE(fs::exists(d / "sim" / f)) << f;
+  }
+  nlohmann::json world;
+  std::ifstream(d / "sim" / "world.json") >> world;
+  EXPECT_EQ(world["conditions"]["season"], "winter");
+  EXPECT_TRUE(world.contains("world"));
+  const CliResult r2 = run(
+      "describe --method sc --poses " + (d / "sim/poses_history_file.txt").string() + " --points " +
+      (d / "sim/pts_history_file.txt").string() + " --out " + (d / "sc").string());
+  ASSERT_EQ(r2.code, 0) << r2.output;
+  const CliResult r3 = run("evaluate --method sc --signatures " + (d / "sc").string() + " --gt " +
+                           (d / "sim/gt.txt").string() + " --out " + (d / "eval").string());
+  ASSERT_EQ(r3.code, 0) << r3.output;
+  EXPECT_FALSE(has_temp_files(d));
+}
+
+TEST(Cli, SimulateRejectsUnknownTrajectoryAndSeason) {
+  const fs::path d = temp_dir("simulate_bad");
+  CliResult r = run("simulate --trajectory builtin:moon --out " + d.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("moon"), std::string::npos) << r.output;
+  r = run("simulate --trajectory builtin:short --season monsoon --out " + d.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("monsoon"), std::string::npos) << r.output;
+}
+
+TEST(Cli, SimulateIsByteIdenticalForTheSameSeed) {
+  const fs::path d = temp_dir("simulate_twice");
+  for (const char* name : {"a", "b", "c"}) {
+    const std::string seed = std::string(name) == "c" ? "5" : "4";
+    ASSERT_EQ(run("simulate --trajectory builtin:short --season fall --seed " + seed + " --out " +
+                  (d / name).string())
+                  .code,
+              0);
+  }
+  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "gt.txt", "world.json"}) {
+    EXPECT_EQ(file_bytes(d / "a" / f), file_bytes(d / "b" / f)) << f;
+  }
+  EXPECT_NE(file_bytes(d / "a" / "pts_history_file.txt"),
+            file_bytes(d / "c" / "pts_history_file.txt"));
+}
+
+TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
+  const fs::path d = temp_dir("db");
+  for (const char* season : {"summer", "fall"}) {
+    const std::string sim = (d / season).string();
+    ASSERT_EQ(run(std::string("simulate --trajectory builtin:short --seed 3 --season ") + season +
+                  " --out " + sim)
+                  .code,
+              0);
+    const CliResult r = run("describe --method sc --poses " + sim + "/poses_history_file.txt" +
+                            " --points " + sim + "/pts_history_file.txt --out " + sim + "/sc");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_TRUE(fs::exists(sim + "/sc/frames.txt"));
+  }
+  const std::string summer = (d / "summer").string(), fall = (d / "fall").string();
+  const std::string db = (d / "map.db").string();
+  CliResult r =
+      run("db build --signatures " + summer + "/sc --gt " + summer + "/gt.txt --out " + db);
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run("db query --db " + db + " --signatures " + fall + "/sc --gt " + fall +
+          "/gt.txt --exact --k 3 --out " + (d / "q").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run("evaluate --method sc --signatures " + fall + "/sc --gt " + fall + "/gt.txt --against " +
+          summer + "/sc --gt2 " + summer + "/gt.txt --out " + (d / "ev").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  nlohmann::json online, offline;
+  std::ifstream(d / "q/metrics.json") >> online;
+  std::ifstream(d / "ev/metrics.json") >> offline;
+  // Exact database queries against the whole map are the offline difference-matrix rows.
+  EXPECT_NEAR(online["auc"].get<double>(), offline["auc"].get<double>(), 1e-6);
+  EXPECT_EQ(online["n_gt_loops"], offline["n_gt_loops"]);
+  std::ifstream csv(d / "q/candidates.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "query_id,rank,session,keyframe,distance,yaw_deg,mirrored");
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 3 * online["n_queries"].get<int>());
+  EXPECT_FALSE(has_temp_files(d));
+
+  // Bad input: a damaged database, a --gt count that does not match.
+  std::string bytes;
+  {
+    std::ifstream in(db, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 4);
+  write(d / "bad.db", bytes);
+  r = run("db query --db " + (d / "bad.db").string() + " --signatures " + fall + "/sc --out " +
+          (d / "q2").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("checksum"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "q2" / "candidates.csv"));
+  r = run("db build --signatures " + summer + "/sc --signatures " + fall + "/sc --gt " + summer +
+          "/gt.txt --out " + (d / "x.db").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_FALSE(fs::exists(d / "x.db"));
+}
+
+TEST(Cli, RenderWritesTheKittiOdometryLayout) {
+  const fs::path d = temp_dir("render");
+  const CliResult r =
+      run("render --trajectory builtin:short --season winter --seed 3 --scale 0.25 "
+          "--first 10 --frames 3 --out " +
+          (d / "seq").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (int cam = 0; cam < 2; ++cam) {
+    for (int i = 0; i < 3; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof name, "image_%d/%06d.png", cam, i);
+      EXPECT_TRUE(fs::exists(d / "seq" / name)) << name;
+    }
+  }
+  std::ifstream calib(d / "seq/calib.txt");
+  std::string p0, p1;
+  std::getline(calib, p0);
+  std::getline(calib, p1);
+  EXPECT_EQ(p0.rfind("P0: ", 0), 0u);
+  std::istringstream line(p1.substr(4));
+  double v[12];
+  for (double& x : v) line >> x;
+  EXPECT_NEAR(v[3], -386.1448 * 0.25, 1e-6);  // -fx * baseline
+  int poses = 0, times = 0;
+  std::string l;
+  for (std::ifstream in(d / "seq/poses.txt"); std::getline(in, l);) ++poses;
+  for (std::ifstream in(d / "seq/times.txt"); std::getline(in, l);) ++times;
+  EXPECT_EQ(poses, 3);
+  EXPECT_EQ(times, 3);
+  EXPECT_FALSE(has_temp_files(d));
+  EXPECT_EQ(run("render --trajectory builtin:short --scale 0 --out " + (d / "x").string()).code, 2);
+
+  // The reader a VO starts from.
+  const io::KittiSequence seq = io::open_kitti_sequence((d / "seq").string());
+  EXPECT_EQ(seq.frames(), 3u);
+  EXPECT_NEAR(seq.calib.fx, 718.856 * 0.25, 1e-6);
+  EXPECT_NEAR(seq.calib.baseline_m, 386.1448 / 718.856, 1e-9);
+  const io::GrayPng left = io::read_png_gray(seq.left(2));
+  EXPECT_EQ(left.width, 310);
+  EXPECT_EQ(left.height, 94);
+  // The InputError message of `load`, or "accepted".
+  auto error_of = [](auto&& load) {
+    try {
+      load();
+    } catch (const io::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string dir = (d / "seq").string();
+  fs::remove(d / "seq/image_1/000001.png");
+  const std::string missing = error_of([&] { io::open_kitti_sequence(dir); });
+  EXPECT_NE(missing.find("image_1/000001.png"), std::string::npos) << missing;
+  write(d / "seq/calib.txt", "P0: 1 0 0 0 0 1 0 0 0 0 1 0\nP1: 1 0 0 x 0 1 0 0 0 0 1 0\n");
+  const std::string junk = error_of([&] { io::read_kitti_calib(dir + "/calib.txt"); });
+  EXPECT_NE(junk.find("calib.txt:2"), std::string::npos) << junk;
+  write(d / "seq/calib.txt", "P0: 1 0 0 0 0 1 0 0 0 0 1 0\n");
+  EXPECT_THROW(io::read_kitti_calib((d / "seq/calib.txt").string()), io::InputError);
+}
+
+}  // namespace
+}  // namespace loopscan
