@@ -1,0 +1,180 @@
+// SIGKILL at any moment of any writing command: the output is the complete old set or the
+// complete new set, never a mix, and the next run clears what the killed one left. Each
+// command alternates between two parameter sets A and B over one target, killed at a random
+// time within its run. LOOPSCAN_KILLS sets the kills per command (default 6; the campaign in
+// scripts/kill-campaign runs 100, the demo included).
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <map>
+#include <random>
+#include <thread>
+
+#include "cli/cli_support.hpp"
+
+extern char** environ;
+
+namespace loopscan {
+namespace {
+
+using namespace loopscan::test;
+using Snapshot = std::map<std::string, std::string>;  // relative path -> bytes ("" if volatile)
+
+// Files holding timings (their bytes differ from run to run): compared by presence only.
+bool is_volatile(const fs::path& p) {
+  const std::string n = p.filename().string();
+  return n == "timing.json" || n == "metrics.json" || n == "vo.json" || n == "summary.json" ||
+         n == "report.html" || n == "index.html";
+}
+
+Snapshot snapshot(const fs::path& target) {
+  Snapshot s;
+  if (fs::is_regular_file(target)) {
+    s[""] = file_bytes(target);
+    return s;
+  }
+  if (!fs::exists(target)) return s;
+  for (const auto& e : fs::recursive_directory_iterator(target)) {
+    if (!e.is_regular_file()) continue;
+    s[fs::relative(e.path(), target).string()] = is_volatile(e.path()) ? "" : file_bytes(e.path());
+  }
+  return s;
+}
+
+// Starts the CLI with `args` (output discarded) and returns its pid.
+pid_t spawn(const std::vector<std::string>& args) {
+  std::vector<std::string> all = {LOOPSCAN_CLI};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  EXPECT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
+}
+
+int wait_for(pid_t pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return status;
+}
+
+struct Writer {
+  std::string name;
+  std::vector<std::string> a, b;  // the command without --out
+  fs::path target;
+};
+
+struct KillStats {
+  int kills = 0, old_set = 0, new_set = 0, mixed = 0;
+};
+
+// Runs the A/B alternation with `kills` SIGKILLs; every state seen must be A or B exactly.
+KillStats kill_test(const Writer& w, int kills, std::mt19937& rng) {
+  auto with_out = [&](std::vector<std::string> args) {
+    args.push_back("--out");
+    args.push_back(w.target.string());
+    return args;
+  };
+  auto complete = [&](const std::vector<std::string>& args) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const int status = wait_for(spawn(with_out(args)));
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << w.name;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  const double seconds_b = complete(w.b);
+  const Snapshot b = snapshot(w.target);
+  const double seconds_a = complete(w.a);
+  const Snapshot a = snapshot(w.target);
+  EXPECT_NE(a, b) << w.name << ": A and B must differ to tell the sets apart";
+  KillStats stats;
+  bool holds_a = true;
+  for (int k = 0; k < kills; ++k) {
+    const double duration = holds_a ? seconds_b : seconds_a;
+    // Every other kill lands near the end, where the set is swapped in.
+    std::uniform_real_distribution<double> when(k % 2 ? 0.8 * duration : 0.0, 1.1 * duration);
+    const pid_t pid = spawn(with_out(holds_a ? w.b : w.a));
+    std::this_thread::sleep_for(std::chrono::duration<double>(when(rng)));
+    kill(pid, SIGKILL);
+    wait_for(pid);
+    const Snapshot now = snapshot(w.target);
+    const bool is_a = now == a, is_b = now == b;
+    EXPECT_TRUE(is_a || is_b) << w.name << ": kill " << k << " left a set that is neither A nor B ("
+                              << now.size() << " files)";
+    ++stats.kills;
+    stats.old_set += (holds_a ? is_a : is_b);
+    stats.new_set += (holds_a ? is_b : is_a);
+    stats.mixed += !is_a && !is_b;
+    if (!is_a && !is_b) complete(w.a);  // back to a known state
+    holds_a = !is_b;
+  }
+  complete(w.a);  // the next run clears every leftover of the killed ones
+  for (const auto& e : fs::directory_iterator(w.target.parent_path())) {
+    const std::string n = e.path().filename().string();
+    EXPECT_TRUE(n.find(".staging.") == std::string::npos && n.find(".old.") == std::string::npos &&
+                n.find(".lock") == std::string::npos && n.find(".tmp.") == std::string::npos)
+        << w.name << ": leftover " << n;
+  }
+  return stats;
+}
+
+TEST(CliKill, KilledWritersLeaveTheOldSetOrTheNewOneNeverAMix) {
+  const char* env = std::getenv("LOOPSCAN_KILLS");
+  const int kills = env ? std::atoi(env) : 6;
+  const fs::path d = temp_dir("kill");
+  const std::string s = d.string();
+  // Inputs: a simulated drive, its signatures, a few rendered frames.
+  ASSERT_EQ(run("simulate --trajectory builtin:short --seed 3 --out " + s + "/sim").code, 0);
+  const std::string poses = s + "/sim/poses_history_file.txt", pts = s + "/sim/pts_history_file.txt";
+  ASSERT_EQ(run("describe --method sc --poses " + poses + " --points " + pts + " --out " + s + "/sc").code, 0);
+  ASSERT_EQ(run("describe --method sc --range 30 --poses " + poses + " --points " + pts + " --out " + s + "/sc30").code, 0);
+  ASSERT_EQ(run("render --trajectory builtin:short --frames 24 --scale 0.25 --out " + s + "/ren").code, 0);
+  write(d / "pairs_a.txt", "0.9 1\n0.8 0\n0.7 1\n0.1 0\n");
+  write(d / "pairs_b.txt", "0.9 0\n0.8 1\n0.2 1\n");
+  const std::string gt = s + "/sim/gt.txt";
+  std::vector<Writer> writers = {
+      {"describe", {"describe", "--method", "sc", "--poses", poses, "--points", pts},
+       {"describe", "--method", "sc", "--range", "30", "--poses", poses, "--points", pts}, d / "w/describe"},
+      {"evaluate", {"evaluate", "--method", "sc", "--signatures", s + "/sc", "--gt", gt},
+       {"evaluate", "--method", "sc", "--signatures", s + "/sc30", "--gt", gt}, d / "w/evaluate"},
+      {"pairs", {"pairs", "--scores", s + "/pairs_a.txt"}, {"pairs", "--scores", s + "/pairs_b.txt"}, d / "w/pairs"},
+      {"simulate", {"simulate", "--trajectory", "builtin:short", "--seed", "1"},
+       {"simulate", "--trajectory", "builtin:short", "--seed", "2"}, d / "w/simulate"},
+      {"render", {"render", "--trajectory", "builtin:short", "--frames", "6", "--scale", "0.25"},
+       {"render", "--trajectory", "builtin:short", "--frames", "5", "--scale", "0.25", "--season", "winter"},
+       d / "w/render"},
+      {"vo", {"vo", "--kitti", s + "/ren", "--segments", "5", "--quiet"},
+       {"vo", "--kitti", s + "/ren", "--frames", "18", "--segments", "5", "--quiet"}, d / "w/vo"},
+      {"db build", {"db", "build", "--signatures", s + "/sc"}, {"db", "build", "--signatures", s + "/sc30"},
+       d / "w/map.db"},
+      {"db query", {"db", "query", "--db", s + "/w/map.db", "--signatures", s + "/sc", "--k", "3"},
+       {"db", "query", "--db", s + "/w/map.db", "--signatures", s + "/sc", "--k", "5"}, d / "w/query"},
+      {"vocab train", {"vocab", "train", "--kitti", s + "/ren", "--k", "4", "--depth", "2", "--step", "4"},
+       {"vocab", "train", "--kitti", s + "/ren", "--k", "3", "--depth", "2", "--step", "4"}, d / "w/voc.bin"},
+      {"run", {"run", "--kitti", s + "/ren", "--methods", "sc", "--segments", "5", "--quiet"},
+       {"run", "--kitti", s + "/ren", "--methods", "delight", "--segments", "5", "--quiet"}, d / "w/run"},
+  };
+  if (kills >= 50) {
+    writers.push_back({"demo", {"demo", "--seed", "7"}, {"demo", "--seed", "8"}, d / "w/demo"});
+  }
+  std::mt19937 rng(2026);
+  for (const Writer& w : writers) {
+    const KillStats st = kill_test(w, kills, rng);
+    std::printf("%-12s %3d kills: %3d left the old set, %3d the new set, %d mixed\n", w.name.c_str(),
+                st.kills, st.old_set, st.new_set, st.mixed);
+  }
+  fs::remove_all(d);
+}
+
+}  // namespace
+}  // namespace loopscan
