@@ -1,0 +1,35 @@
+#pragma once
+// A reader under fuzzing: valid seed inputs made in-process (no files needed), the file name
+// each input is written to, and the call that reads them back. An input is a set of files
+// (most readers take one); the mutator changes one of them per case.
+#include <functional>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace loopscan::fuzz {
+
+using Files = std::map<std::string, std::string>;  // file name -> bytes
+
+enum class Format { Text, Binary };
+
+struct Target {
+  std::string name;
+  Format format = Format::Text;
+  // Where the CRC-32 of a binary file lives: the last 4 bytes (recomputed after some
+  // mutations, so that the value checks behind the checksum are reached too), or none.
+  bool trailing_crc = false;
+  bool png_chunks = false;    // PNG: chunk CRCs recomputed the same way
+  bool noisy_stderr = false;  // its library warns on stderr (libjpeg): captured per case
+  std::vector<Files> seeds;   // valid inputs
+  std::string mutated_file;   // the file of a seed that cases mutate ("" = the only one)
+  // Reads the input in `dir`; throws io::InputError or std::invalid_argument on bad input.
+  std::function<void(const std::string& dir)> read;
+};
+
+// Every reader of loopscan that takes a file from a user (targets_text.cpp, targets_binary.cpp).
+std::vector<Target> text_targets();
+std::vector<Target> binary_targets();
+
+}  // namespace loopscan::fuzz

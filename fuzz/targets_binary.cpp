@@ -1,0 +1,111 @@
+// The binary readers: place databases (Scan Context and DELIGHT), vocabularies, images (PNG
+// through loopscan's decoder, JPEG through OpenCV after the header check).
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "fuzz_target.hpp"
+#include "loopscan/baselines/vocabulary_io.hpp"
+#include "loopscan/core/database/database.hpp"
+#include "loopscan/io/database_file.hpp"
+#include "loopscan/io/png.hpp"
+#include "loopscan/io/vocabulary_file.hpp"
+#include "loopscan/vo/image_file.hpp"
+
+namespace loopscan::fuzz {
+namespace {
+
+// Runs `write(path)` on a scratch file and returns its bytes.
+template <typename Write>
+std::string bytes_of(Write write) {
+  const std::string tmp = (std::filesystem::temp_directory_path() /
+                           ("loopscan_fuzz_seed_" + std::to_string(::getpid())))
+                              .string();
+  write(tmp);
+  std::ifstream in(tmp, std::ios::binary);
+  std::string bytes{std::istreambuf_iterator<char>(in), {}};
+  std::filesystem::remove(tmp);
+  return bytes;
+}
+
+std::string database_bytes(Method method, int places) {
+  DatabaseConfig cfg;
+  cfg.method = method;
+  Database db(cfg);
+  for (int i = 0; i < places; ++i) {
+    Signature s = Signature::Zero(rows_per_place(method), signature_columns(method));
+    for (Eigen::Index k = 0; k < s.size(); k += 7)
+      s(k) = method == Method::Delight ? k % 5 : 0.01 * (k % 13);
+    PlaceDescriptor d{s};
+    std::optional<Pose3x4> pose;
+    if (i % 2 == 0) pose = Pose3x4::Identity();
+    db.add({i % 2, 30 + i}, d, pose);
+  }
+  return bytes_of([&](const std::string& p) { io::save_database(db, p); });
+}
+
+std::string vocabulary_bytes() {
+  io::VocabularyData v;
+  v.branching = 2;
+  v.depth = 2;
+  for (int i = 0; i < 6; ++i) {
+    io::VocabularyRecord r;
+    r.parent = i < 2 ? 0 : 1 + (i - 2) / 2;
+    r.leaf = i >= 2;
+    for (int b = 0; b < 32; ++b) r.descriptor[b] = static_cast<std::uint8_t>(i * 29 + b);
+    r.weight = r.leaf ? 0.5f : 0.f;
+    v.nodes.push_back(r);
+  }
+  return bytes_of([&](const std::string& p) { io::save_vocabulary(p, v); });
+}
+
+std::string image_bytes(const char* ext, int type) {
+  cv::Mat m(9, 13, type);
+  cv::randu(m, 0, CV_MAT_DEPTH(type) == CV_16U ? 65535 : 255);
+  std::vector<unsigned char> buf;
+  cv::imencode(ext, m, buf);
+  return std::string(buf.begin(), buf.end());
+}
+
+Target binary(const std::string& name, const std::string& file, std::vector<std::string> seeds,
+              std::function<void(const std::string&)> read_file) {
+  Target t;
+  t.name = name;
+  t.format = Format::Binary;
+  for (std::string& s : seeds) t.seeds.push_back({{file, std::move(s)}});
+  t.read = [file, read_file](const std::string& dir) { read_file(dir + "/" + file); };
+  return t;
+}
+
+}  // namespace
+
+std::vector<Target> binary_targets() {
+  std::vector<Target> t;
+  Target db = binary("database", "map.db",
+                     {database_bytes(Method::ScanContext, 3), database_bytes(Method::Delight, 2),
+                      database_bytes(Method::M2dp, 2)},
+                     [](const std::string& p) { io::load_database(p); });
+  db.trailing_crc = true;
+  t.push_back(db);
+  Target voc = binary("vocabulary", "voc.bin", {vocabulary_bytes()},
+                      [](const std::string& p) { baselines::read_vocabulary(p); });
+  voc.trailing_crc = true;
+  t.push_back(voc);
+  Target png = binary(
+      "png", "image.png",
+      {image_bytes(".png", CV_8UC1), image_bytes(".png", CV_16UC3), image_bytes(".png", CV_8UC4)},
+      [](const std::string& p) { vo::read_gray_image(p); });
+  png.png_chunks = true;
+  t.push_back(png);
+  Target jpeg =
+      binary("jpeg", "image.jpg", {image_bytes(".jpg", CV_8UC1), image_bytes(".jpg", CV_8UC3)},
+             [](const std::string& p) { vo::read_gray_image(p); });
+  jpeg.noisy_stderr = true;
+  t.push_back(jpeg);
+  return t;
+}
+
+}  // namespace loopscan::fuzz
