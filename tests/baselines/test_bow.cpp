@@ -134,7 +134,13 @@ TEST(Bow, ImageScoresOneWithItselfAndLowWithAnotherPlace) {
   EXPECT_GT(same_place, other + 0.1);
 }
 
-// ---- vocabulary files ----------------------------------------------------------------------
+TEST(Bow, InvertedIndexRefusesWordIdsBeyondItsTable) {
+  baselines::InvertedIndex index;
+  EXPECT_THROW(index.add({{3, 0.5f}, {1 << 30, 0.5f}}), std::invalid_argument);
+  EXPECT_THROW(index.add({{-1, 0.5f}}), std::invalid_argument);
+  EXPECT_EQ(index.size(), 0u);  // nothing half-added
+  EXPECT_EQ(index.add({{3, 0.5f}, {baselines::InvertedIndex::kMaxWord, 0.5f}}), 0);
+}
 
 }  // namespace
 }  // namespace loopscan

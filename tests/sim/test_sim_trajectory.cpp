@@ -10,6 +10,7 @@
 
 #include "loopscan/sim/camera.hpp"
 #include "loopscan/sim/trajectory.hpp"
+#include "loopscan/sim/world.hpp"
 #include "support/test_support.hpp"
 
 namespace loopscan::sim {
@@ -232,6 +233,18 @@ TEST(SimTrajectory, RobotCarGpsLoadsWithContinuousHeading) {
     ++checked;
   }
   EXPECT_GT(checked, 400);
+}
+
+TEST(SimTrajectory, RoutesTooLargeForAWorldAreNamedWithTheirLargestJump) {
+  std::vector<Eigen::Vector3d> route;
+  for (int i = 0; i < 30; ++i) route.emplace_back(0, 0, i == 10 ? 1e6 : i);
+  const std::string problem = sim::route_size_problem(route, sim::WorldConfig{});
+  EXPECT_NE(problem.find("between frames 9 and 10"), std::string::npos) << problem;
+  EXPECT_THROW(sim::World::build(route, sim::WorldConfig{}), std::invalid_argument);
+  route[10].z() = 10;
+  EXPECT_EQ(sim::route_size_problem(route, sim::WorldConfig{}), "");
+  route[4].x() = std::nan("");
+  EXPECT_NE(sim::route_size_problem(route, sim::WorldConfig{}).find("frame 4"), std::string::npos);
 }
 
 TEST(SimTrajectory, StereoCameraProjectRayRoundTrip) {
