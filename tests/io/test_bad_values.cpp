@@ -8,12 +8,14 @@
 #include <limits>
 
 #include "loopscan/core/database/database.hpp"
+#include "loopscan/io/bow_file.hpp"
 #include "loopscan/io/database_file.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/kitti_sequence.hpp"
 #include "loopscan/io/line_reader.hpp"
 #include "loopscan/io/matrix_text.hpp"
 #include "loopscan/io/sodso.hpp"
+#include "loopscan/io/vocabulary_file.hpp"
 #include "support/io_fixture.hpp"
 
 namespace loopscan {
@@ -78,6 +80,24 @@ TEST_F(BadValues, CalibrationAndTimesMustBeFinite) {
   std::ofstream(seq / "times.txt") << "0\ninf\n";
   const std::string msg = error_of([&] { open_kitti_sequence(seq.string()); });
   EXPECT_TRUE(has(msg, "times.txt:2: expected one timestamp")) << msg;
+}
+
+TEST_F(BadValues, BowVectorsAndVocabulariesMustHoldFiniteWeightsAndBoundedWords) {
+  const auto bow = [](auto p) { read_bow_vectors(p); };
+  expect_bad(bow, "0 0.5 3 nan\n", 1, "weights finite and > 0");
+  expect_bad(bow, "0 0.5 3 1e39\n", 1, "weights finite");  // beyond single precision
+  expect_bad(bow, "0 0.5 16777216 0.5\n", 1, "at most 16777215");
+  EXPECT_EQ(read_bow_vectors(file("ok.txt", "0 0.5 16777215 0.5\n"))[0].size(), 2u);
+  const std::string node = " 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 ";
+  expect_bad([](auto p) { read_orbvoc_text(p); }, "2 1 0 0\n0 1" + node + "nan\n", 2, "finite");
+  // Binary: a NaN weight behind a valid checksum.
+  VocabularyData v;
+  v.branching = 2;
+  v.depth = 1;
+  v.nodes = {{0, true, {}, 0.5f}, {0, true, {}, std::nanf("")}};
+  save_vocabulary((dir_ / "v.bin").string(), v);
+  const std::string msg = error_of([&] { load_vocabulary((dir_ / "v.bin").string()); });
+  EXPECT_TRUE(has(msg, "node 2: expected a finite non-negative weight")) << msg;
 }
 
 // A saved database with bytes patched at `offset` and the checksum recomputed, so that only
