@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "loopscan/core/scan/camera_points.hpp"
 #include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/matching/place_matcher.hpp"
+#include "loopscan/core/scan/camera_points.hpp"
 #include "loopscan/core/scan/scan_imitator.hpp"
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/io/matrix_text.hpp"

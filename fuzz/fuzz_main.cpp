@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -45,7 +46,21 @@ struct Options {
   unsigned long seed = 1;
   std::string findings = "fuzz-findings";
   double hang_seconds = 20;
+  bool self_test = false;  // fuzz a deliberately faulty reader: succeed only if it is caught
 };
+
+// A reader with a planted defect (it throws std::runtime_error on a NaN token, as a reader
+// that forgot to report bad input would), for --self-test.
+Target faulty_reader() {
+  return single_file("self-test:faulty", "numbers.txt", Format::Text, {"1 2 3\n4 5 6\n"},
+                     [](const std::string& path) {
+                       std::ifstream in(path);
+                       const std::string text{std::istreambuf_iterator<char>(in), {}};
+                       if (text.find("nan") != std::string::npos) {
+                         throw std::runtime_error("planted defect");
+                       }
+                     });
+}
 
 struct Counts {
   long cases = 0, accepted = 0, clean = 0, findings = 0;
@@ -167,10 +182,12 @@ Options parse(int argc, char** argv) {
       o.findings = value();
     else if (a == "--hang-seconds")
       o.hang_seconds = std::stod(value());
+    else if (a == "--self-test")
+      o.self_test = true;
     else
       throw std::invalid_argument("unknown option " + a +
                                   " (--seconds S | --cases N, --target NAME, --seed K, "
-                                  "--findings DIR, --hang-seconds S)");
+                                  "--findings DIR, --hang-seconds S, --self-test)");
   }
   return o;
 }
@@ -181,8 +198,13 @@ int main_impl(int argc, char** argv) {
   const rlimit memory{rlim_t{4} << 30, rlim_t{4} << 30};  // 4 GB: runaway allocations throw
   setrlimit(RLIMIT_AS, &memory);
 #endif
-  std::vector<Target> targets = text_targets();
-  for (Target& t : binary_targets()) targets.push_back(std::move(t));
+  std::vector<Target> targets;
+  if (o.self_test) {
+    targets.push_back(faulty_reader());
+  } else {
+    targets = text_targets();
+    for (Target& t : binary_targets()) targets.push_back(std::move(t));
+  }
   std::vector<const Target*> chosen;
   for (const Target& t : targets) {
     if (t.name.find(o.only) != std::string::npos) chosen.push_back(&t);
@@ -229,6 +251,7 @@ int main_impl(int argc, char** argv) {
   watchdog.join();
   fs::remove_all(work);
   std::printf("%ld findings\n", findings);
+  if (o.self_test) return findings > 0 ? 0 : 1;  // the planted defect must be found
   return findings == 0 ? 0 : 1;
 }
 

@@ -28,6 +28,14 @@ struct Target {
   std::function<void(const std::string& dir)> read;
 };
 
+// A target reading one file: `read_file(dir + "/" + file)` on each seed's bytes.
+Target single_file(const std::string& name, const std::string& file, Format format,
+                   std::vector<std::string> seeds,
+                   std::function<void(const std::string&)> read_file);
+
+// The bytes a writer puts in a file (the library's own writers make the seeds).
+std::string bytes_written_by(const std::function<void(const std::string& path)>& write);
+
 // Every reader of loopscan that takes a file from a user (targets_text.cpp, targets_binary.cpp).
 std::vector<Target> text_targets();
 std::vector<Target> binary_targets();

@@ -18,19 +18,6 @@
 namespace loopscan::fuzz {
 namespace {
 
-// Runs `write(path)` on a scratch file and returns its bytes.
-template <typename Write>
-std::string bytes_of(Write write) {
-  const std::string tmp = (std::filesystem::temp_directory_path() /
-                           ("loopscan_fuzz_seed_" + std::to_string(::getpid())))
-                              .string();
-  write(tmp);
-  std::ifstream in(tmp, std::ios::binary);
-  std::string bytes{std::istreambuf_iterator<char>(in), {}};
-  std::filesystem::remove(tmp);
-  return bytes;
-}
-
 std::string database_bytes(Method method, int places) {
   DatabaseConfig cfg;
   cfg.method = method;
@@ -44,7 +31,7 @@ std::string database_bytes(Method method, int places) {
     if (i % 2 == 0) pose = Pose3x4::Identity();
     db.add({i % 2, 30 + i}, d, pose);
   }
-  return bytes_of([&](const std::string& p) { io::save_database(db, p); });
+  return bytes_written_by([&](const std::string& p) { io::save_database(db, p); });
 }
 
 std::string vocabulary_bytes() {
@@ -59,7 +46,7 @@ std::string vocabulary_bytes() {
     r.weight = r.leaf ? 0.5f : 0.f;
     v.nodes.push_back(r);
   }
-  return bytes_of([&](const std::string& p) { io::save_vocabulary(p, v); });
+  return bytes_written_by([&](const std::string& p) { io::save_vocabulary(p, v); });
 }
 
 std::string image_bytes(const char* ext, int type) {
@@ -72,12 +59,7 @@ std::string image_bytes(const char* ext, int type) {
 
 Target binary(const std::string& name, const std::string& file, std::vector<std::string> seeds,
               std::function<void(const std::string&)> read_file) {
-  Target t;
-  t.name = name;
-  t.format = Format::Binary;
-  for (std::string& s : seeds) t.seeds.push_back({{file, std::move(s)}});
-  t.read = [file, read_file](const std::string& dir) { read_file(dir + "/" + file); };
-  return t;
+  return single_file(name, file, Format::Binary, std::move(seeds), std::move(read_file));
 }
 
 }  // namespace

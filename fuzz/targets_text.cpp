@@ -54,17 +54,13 @@ std::string points_text(int keyframes, int per_keyframe) {
   return s.str();
 }
 
-std::string gzip(const std::string& text) {
-  const std::string tmp = (std::filesystem::temp_directory_path() /
-                           ("loopscan_fuzz_seed_" + std::to_string(::getpid()) + ".gz"))
-                              .string();
-  io::TextFileWriter w(tmp);
-  w.write(text);
-  w.commit();
-  std::ifstream in(tmp, std::ios::binary);
-  std::string bytes{std::istreambuf_iterator<char>(in), {}};
-  std::filesystem::remove(tmp);
-  return bytes;
+std::string gzip(const std::string& text) {  // TextFileWriter compresses for a ".gz" path
+  return bytes_written_by([&](const std::string& p) {
+    io::TextFileWriter w(p + ".gz");
+    w.write(text);
+    w.commit();
+    std::filesystem::rename(p + ".gz", p);
+  });
 }
 
 std::string matrix_text(int rows, int cols) {
@@ -96,23 +92,12 @@ std::string vocabulary_text() {
     r.weight = i >= 3 ? 0.25f * (i % 4 + 1) : 0.f;
     v.nodes.push_back(r);
   }
-  const std::string tmp = (std::filesystem::temp_directory_path() /
-                           ("loopscan_fuzz_voc_" + std::to_string(::getpid()) + ".txt"))
-                              .string();
-  io::write_orbvoc_text(tmp, v);
-  std::ifstream in(tmp, std::ios::binary);
-  std::string bytes{std::istreambuf_iterator<char>(in), {}};
-  std::filesystem::remove(tmp);
-  return bytes;
+  return bytes_written_by([&](const std::string& p) { io::write_orbvoc_text(p, v); });
 }
 
 Target one_file(const std::string& name, const std::string& file, std::vector<std::string> seeds,
                 std::function<void(const std::string&)> read_file) {
-  Target t;
-  t.name = name;
-  for (std::string& s : seeds) t.seeds.push_back({{file, std::move(s)}});
-  t.read = [file, read_file](const std::string& dir) { read_file(dir + "/" + file); };
-  return t;
+  return single_file(name, file, Format::Text, std::move(seeds), std::move(read_file));
 }
 
 }  // namespace

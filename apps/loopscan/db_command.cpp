@@ -184,7 +184,8 @@ void add_db_command(CLI::App& app) {
   query->add_option("--signatures", q->signatures, "describe output dir of the queries")
       ->required();
   query->add_option("--k", q->k, "results per query")
-      ->check(finite_in(1, 10000))->capture_default_str();
+      ->check(finite_in(1, 10000))
+      ->capture_default_str();
   query->add_flag("--exact", q->exact, "exact search instead of the index");
   query->add_option("--candidates", q->candidates, "index candidates scored exactly")
       ->check(finite_in(1, 1e6))
@@ -201,7 +202,8 @@ void add_db_command(CLI::App& app) {
   query->add_option("--gt", q->gt, "ground truth of the queries: adds metrics, PR curve");
   query->add_option("--gt-format", q->gt_format, "kitti | robotcar")->capture_default_str();
   query->add_option("--threshold", q->threshold_m, "loop distance in m")
-      ->check(finite_in(1e-3, 1e6))->capture_default_str();
+      ->check(finite_in(1e-3, 1e6))
+      ->capture_default_str();
   query
       ->add_option("--mask", q->mask,
                    "the database holds these very places: skip |i - j| < mask (100 like "

@@ -108,7 +108,8 @@ void add_describe_command(CLI::App& app) {
   cmd->add_option("--out", args->out, "output directory")->required();
   cmd->add_option("--mode", args->mode, "reference | default")->capture_default_str();
   cmd->add_option("--range", args->range_m, "imitated LiDAR range in m")
-      ->check(finite_in(0.1, 1000))->capture_default_str();
+      ->check(finite_in(0.1, 1000))
+      ->capture_default_str();
   cmd->add_option("--threads", args->threads, "threads describing scans (imitation is sequential)")
       ->check(finite_in(1, kMaxThreads))
       ->capture_default_str();

@@ -37,7 +37,8 @@ ImageSet load_image_set(const std::string& dir, const std::string& method) {
   if (method == "gist") {
     file = dir + "/signatures.txt";
     const Eigen::MatrixXd m = io::read_matrix_text(file);
-    for (Eigen::Index r = 0; r < m.rows(); ++r) s.gist.push_back(m.row(r).transpose().cast<float>());
+    for (Eigen::Index r = 0; r < m.rows(); ++r)
+      s.gist.push_back(m.row(r).transpose().cast<float>());
     n = s.gist.size();
   } else {
     file = dir + "/bow.txt";
@@ -61,7 +62,8 @@ void write_image_descriptors(const std::string& dir, const std::string& method,
                              const baselines::ImageDescriptors& d, const std::vector<int>& ids) {
   std::filesystem::create_directories(dir);
   if (method == "gist") {
-    Eigen::MatrixXd m(static_cast<Eigen::Index>(d.gist.size()), d.gist.empty() ? 512 : d.gist[0].size());
+    Eigen::MatrixXd m(static_cast<Eigen::Index>(d.gist.size()),
+                      d.gist.empty() ? 512 : d.gist[0].size());
     for (std::size_t i = 0; i < d.gist.size(); ++i)
       m.row(static_cast<Eigen::Index>(i)) = d.gist[i].cast<double>().transpose();
     io::write_matrix_text(dir + "/signatures.txt", m);
@@ -74,7 +76,8 @@ void write_image_descriptors(const std::string& dir, const std::string& method,
 void run_image_describe(const ImageDescribeArgs& a) {
   if (a.kitti.empty() || a.keyframes.empty())
     throw std::invalid_argument("--method " + a.method + " needs --kitti and --keyframes");
-  if (a.method == "bow" && a.vocab.empty()) throw std::invalid_argument("--method bow needs --vocab");
+  if (a.method == "bow" && a.vocab.empty())
+    throw std::invalid_argument("--method bow needs --vocab");
   const io::KittiSequence sequence = io::open_kitti_sequence(a.kitti);
   const std::vector<int> ids = io::read_incoming_ids(a.keyframes + "/incoming_id_file.txt");
   baselines::ImageDescriptors d;
@@ -112,14 +115,16 @@ void run_image_evaluate(const ImageEvaluateArgs& a) {
     db.positions = io::positions_of(db.ids, a.gt2, a.gt_format);
   }
   if (queries.size() == 0 || db.size() == 0)
-    throw std::invalid_argument("nothing to evaluate: no places in " + (queries.size() == 0 ? a.signatures : a.against));
+    throw std::invalid_argument("nothing to evaluate: no places in " +
+                                (queries.size() == 0 ? a.signatures : a.against));
   eval::Protocol protocol = cross ? eval::cross_session_protocol() : eval::same_session_protocol();
   if (a.threshold_m > 0) protocol.threshold_m = a.threshold_m;
   if (a.mask >= 0) protocol.mask_width = a.mask;
   const baselines::BaselineMatches m =
       a.method == "gist" ? baselines::best_gist_matches(queries.gist, db.gist, protocol.mask_width)
                          : baselines::best_bow_matches(queries.bow, db.bow, protocol.mask_width);
-  const eval::PrResult pr = eval::evaluate_matches(m.matches, queries.positions, db.positions, protocol);
+  const eval::PrResult pr =
+      eval::evaluate_matches(m.matches, queries.positions, db.positions, protocol);
   nlohmann::json metrics = {{"method", a.method},
                             {"protocol",
                              {{"threshold_m", protocol.threshold_m},
@@ -129,9 +134,11 @@ void run_image_evaluate(const ImageEvaluateArgs& a) {
                             {"query_ms", m.query_ms}};
   metrics.update(pr_metrics(pr));
   write_evaluation(a.out, queries.ids, db.ids, pr, metrics, a.method);
-  std::printf("%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, %.3f ms per query -> %s\n",
-              a.method.c_str(), pr.auc, pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops,
-              pr.n_queries, m.query_ms, shown(a.out).c_str());
+  std::printf(
+      "%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops / %d queries, %.3f ms per query "
+      "-> %s\n",
+      a.method.c_str(), pr.auc, pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops, pr.n_queries,
+      m.query_ms, shown(a.out).c_str());
 }
 
 }  // namespace loopscan::cli

@@ -48,7 +48,8 @@ void run_pairs(const PairsArgs& a) {
 void add_pairs_command(CLI::App& app) {
   auto args = std::make_shared<PairsArgs>();
   CLI::App* cmd = app.add_subcommand("pairs", "Evaluate pairwise `score label` lists (PR, F1-max)");
-  cmd->add_option("--scores", args->scores, "text file (or .gz): `score label` per line, label 0 or 1")
+  cmd->add_option("--scores", args->scores,
+                  "text file (or .gz): `score label` per line, label 0 or 1")
       ->required();
   cmd->add_option("--out", args->out, "output directory")->required();
   run_writing_dir(cmd, args, run_pairs);

@@ -44,9 +44,7 @@ void run_render(const RenderArgs& a) {
   const sim::World world = sim::World::build(t.trajectory.centres(), wc);
   sim::Conditions conditions = sim::Conditions::for_season(sim::parse_season(a.season));
   conditions.session_seed = a.session != 0 ? a.session : a.seed;
-  const sim::StereoCamera camera = sim::scaled_camera(
-      load_camera(a.calib),
-      a.scale);
+  const sim::StereoCamera camera = sim::scaled_camera(load_camera(a.calib), a.scale);
   const int total = static_cast<int>(t.trajectory.T_world_cam.size());
   const int first = std::clamp(a.first, 0, total);
   const int count = a.frames < 0 ? total - first : std::min(a.frames, total - first);
@@ -97,16 +95,20 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--seed", a->seed, "world seed")->capture_default_str();
   cmd->add_option("--session", a->session, "session seed: parked cars, noise (default: seed)");
   cmd->add_option("--scale", a->scale, "image scale (1: 1241x376)")
-      ->check(finite_in(0.01, 4))->capture_default_str();
+      ->check(finite_in(0.01, 4))
+      ->capture_default_str();
   cmd->add_option("--first", a->first, "first trajectory frame")
-      ->check(finite_in(0, kMaxCount))->capture_default_str();
+      ->check(finite_in(0, kMaxCount))
+      ->capture_default_str();
   cmd->add_option("--frames", a->frames, "number of frames (default: all)")
       ->check(finite_in(0, kMaxCount));
   cmd->add_option("--noise", a->noise, "sensor noise sigma, gray levels")
-      ->check(finite_in(0, 255))->capture_default_str();
+      ->check(finite_in(0, 255))
+      ->capture_default_str();
   cmd->add_option("--calib", a->calib, "ORB-SLAM2 KITTI yaml (default: KITTI 04-12 camera)");
   cmd->add_option("--threads", a->threads, "render threads")
-      ->check(finite_in(1, kMaxThreads))->capture_default_str();
+      ->check(finite_in(1, kMaxThreads))
+      ->capture_default_str();
   cmd->add_option("--out", a->out, "output directory")->required();
   run_writing_dir(cmd, a, run_render);
 }

@@ -47,7 +47,8 @@ struct MethodRun {
 };
 
 void write_method_evaluation(const MethodRun& r, const std::string& dir, Mode mode) {
-  nlohmann::json metrics = {{"method", r.name}, {"mode", mode_name(mode)}, {"query_ms", r.query_ms}};
+  nlohmann::json metrics = {
+      {"method", r.name}, {"mode", mode_name(mode)}, {"query_ms", r.query_ms}};
   metrics.update(pr_metrics(r.pr));
   write_evaluation(dir, r.keyframe_ids, r.keyframe_ids, r.pr, metrics, r.name);
 }
@@ -84,7 +85,8 @@ void run_all(const RunArgs& a) {
   const Mode mode = parse_mode(a.mode);
   for (const std::string& name : a.methods) {  // before the VO runs
     if (!is_image_method(name)) parse_method(name);
-    if (name == "bow" && a.vocab.empty()) throw std::invalid_argument("--methods bow needs --vocab");
+    if (name == "bow" && a.vocab.empty())
+      throw std::invalid_argument("--methods bow needs --vocab");
   }
   VoArgs vo_args = a.vo;
   vo_args.out = a.out + "/vo";
@@ -126,7 +128,8 @@ void run_all(const RunArgs& a) {
       const Method method = parse_method(name);
       SequenceOptions options = SequenceOptions::make(method, mode);
       options.threads = std::max(1, a.threads);
-      const SequenceSignatures sig = describe_sequence(vo.run.keyframe_poses, vo.run.points, options);
+      const SequenceSignatures sig =
+          describe_sequence(vo.run.keyframe_poses, vo.run.points, options);
       write_signatures(dir, sig, method);
       r.keyframe_ids = sig.keyframe_ids;
       r.prepare_ms = sig.imitate_ms;
@@ -165,9 +168,9 @@ void run_all(const RunArgs& a) {
       write_image_descriptors(dir, name, d, places);
       if (!gt_rows.empty() && !places.empty()) {
         const int mask = eval::same_session_protocol().mask_width;
-        const baselines::BaselineMatches m = name == "gist"
-                                                 ? baselines::best_gist_matches(d.gist, d.gist, mask)
-                                                 : baselines::best_bow_matches(d.bow, d.bow, mask);
+        const baselines::BaselineMatches m =
+            name == "gist" ? baselines::best_gist_matches(d.gist, d.gist, mask)
+                           : baselines::best_bow_matches(d.bow, d.bow, mask);
         const std::vector<Eigen::Vector3d> positions = positions_of(places);
         r.pr = eval::evaluate_matches(m.matches, positions, positions,
                                       eval::same_session_protocol(), mode == Mode::Reference);
@@ -211,9 +214,8 @@ void run_all(const RunArgs& a) {
   report::Table places_table{"Accuracy (same session: 10 m, |i - j| >= 100)",
                              {"method", "AUC", "recall@100%P", "F1 max", "GT loops", "places"},
                              {}};
-  report::Table times{"Run time per keyframe (ms, one thread)",
-                      {"method", "prepare", "describe", "query"},
-                      {}};
+  report::Table times{
+      "Run time per keyframe (ms, one thread)", {"method", "prepare", "describe", "query"}, {}};
   std::vector<report::Series> curves;
   for (const MethodRun& r : runs) {
     const eval::PrResult& pr = r.pr;
@@ -233,7 +235,8 @@ void run_all(const RunArgs& a) {
     places_table.rows.push_back({r.name, fixed(pr.auc, 4), fixed(pr.recall_at_100_precision, 4),
                                  fixed(pr.f1_max, 4), std::to_string(pr.n_gt_loops),
                                  std::to_string(r.keyframe_ids.size())});
-    times.rows.push_back({r.name, fixed(r.prepare_ms, 3), fixed(r.describe_ms, 3), fixed(r.query_ms, 3)});
+    times.rows.push_back(
+        {r.name, fixed(r.prepare_ms, 3), fixed(r.describe_ms, 3), fixed(r.query_ms, 3)});
     if (r.evaluated) curves.push_back(report::pr_series(pr.curve, r.name));
   }
   page.tables.push_back(places_table);
@@ -250,8 +253,8 @@ void run_all(const RunArgs& a) {
 
 void add_run_command(CLI::App& app) {
   auto a = std::make_shared<RunArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "run", "Stereo images -> VO -> describe -> evaluate -> report, in one go");
+  CLI::App* cmd =
+      app.add_subcommand("run", "Stereo images -> VO -> describe -> evaluate -> report, in one go");
   add_vo_options(*cmd, a->vo);
   cmd->get_option("--out")->description("output directory (vo/, <method>/, report.html)");
   cmd->add_option("--methods", a->methods, "sc m2dp delight gist bow (bow needs --vocab)")

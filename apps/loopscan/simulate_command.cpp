@@ -31,8 +31,7 @@ void run_simulate(const SimulateArgs& args) {
   conditions.session_seed = a.session != 0 ? a.session : a.seed;
   if (a.gain >= 0) conditions.illumination_gain = a.gain;
   if (a.gamma > 0) conditions.gamma = a.gamma;
-  const sim::StereoCamera camera =
-      load_camera(a.calib);
+  const sim::StereoCamera camera = load_camera(a.calib);
   a.vo.seed = conditions.noise_seed(a.seed);
   a.vo.reset_keyframe_ids = a.resets;
   const Session s = simulate_session(t, world, conditions, camera, a.vo, vo_poses);
@@ -63,7 +62,8 @@ void add_simulate_command(CLI::App& app) {
       ->check(finite_in(0.01, 10));
   cmd->add_option("--calib", a->calib, "ORB-SLAM2 KITTI yaml (default: KITTI 04-12 camera)");
   cmd->add_option("--points-per-keyframe", a->vo.points_per_keyframe)
-      ->check(finite_in(1, 100000))->capture_default_str();
+      ->check(finite_in(1, 100000))
+      ->capture_default_str();
   cmd->add_option("--disparity-sigma", a->vo.disparity_sigma_px, "stereo noise in px")
       ->check(finite_in(0, 100))
       ->capture_default_str();
@@ -74,7 +74,8 @@ void add_simulate_command(CLI::App& app) {
       ->check(finite_in(0, 90))
       ->capture_default_str();
   cmd->add_option("--resets", a->resets, "keyframe ids where the VO restarts")
-      ->check(finite_in(0, kMaxCount))->delimiter(',');
+      ->check(finite_in(0, kMaxCount))
+      ->delimiter(',');
   cmd->add_option("--out", a->out, "output directory")->required();
   run_writing_dir(cmd, a, run_simulate);
 }

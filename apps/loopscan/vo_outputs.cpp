@@ -50,11 +50,13 @@ void add_vo_options(CLI::App& cmd, VoArgs& a) {
   cmd.add_option("--out", a.out, "output directory")->required();
   cmd.add_option("--gt", a.gt, "KITTI ground-truth poses (default: <kitti>/poses.txt if present)");
   cmd.add_option("--first", a.first, "first frame")
-      ->check(finite_in(0, kMaxCount))->capture_default_str();
+      ->check(finite_in(0, kMaxCount))
+      ->capture_default_str();
   cmd.add_option("--frames", a.frames, "number of frames (default: all)")
       ->check(finite_in(0, kMaxCount));
   cmd.add_option("--points", a.points, "exported points per keyframe")
-      ->check(finite_in(1, 100000))->capture_default_str();
+      ->check(finite_in(1, 100000))
+      ->capture_default_str();
   cmd.add_option("--segments", a.segments_m, "segment lengths in m (default: 100 200 ... 800)")
       ->check(finite_in(1, 1e6));
   cmd.add_option("--blank-frames", a.blank_frames, "frames replaced by black images (tests resets)")

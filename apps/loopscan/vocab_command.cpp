@@ -57,13 +57,15 @@ void add_vocab_command(CLI::App& app) {
   train->add_option("--kitti", a->kitti, "KITTI-layout sequence(s)")->required();
   train->add_option("--out", a->out, "vocabulary file")->required();
   train->add_option("--k", a->branching, "branching factor")
-      ->check(finite_in(2, 100))->capture_default_str();
-  train->add_option("--depth", a->depth, "levels")
-      ->check(finite_in(1, 10))->capture_default_str();
+      ->check(finite_in(2, 100))
+      ->capture_default_str();
+  train->add_option("--depth", a->depth, "levels")->check(finite_in(1, 10))->capture_default_str();
   train->add_option("--features", a->features, "ORB features per image")
-      ->check(finite_in(1, 100000))->capture_default_str();
+      ->check(finite_in(1, 100000))
+      ->capture_default_str();
   train->add_option("--step", a->step, "use every step-th frame")
-      ->check(finite_in(1, kMaxCount))->capture_default_str();
+      ->check(finite_in(1, kMaxCount))
+      ->capture_default_str();
   train->add_option("--iterations", a->iterations, "k-majority rounds per node")
       ->check(finite_in(1, 1000))
       ->capture_default_str();

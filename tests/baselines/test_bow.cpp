@@ -28,7 +28,6 @@ using baselines::BowVector;
 using test::random_descriptors;
 using test::random_vocabulary;
 
-
 BowVector random_bow(std::mt19937& rng, int words, int entries) {
   std::map<int, float> m;
   for (int i = 0; i < entries; ++i) m[static_cast<int>(rng() % words)] += 1.0f + (rng() % 5);
@@ -98,7 +97,8 @@ TEST(Bow, TrainedTreeIsAKMajorityHierarchyWithIdfWeights) {
   // IDF by brute force: log(images / images containing the word).
   std::vector<std::set<int>> seen(v.words());
   for (std::size_t i = 0; i < images.size(); ++i)
-    for (int r = 0; r < images[i].rows; ++r) seen[v.word_of(images[i].ptr<std::uint8_t>(r))].insert(static_cast<int>(i));
+    for (int r = 0; r < images[i].rows; ++r)
+      seen[v.word_of(images[i].ptr<std::uint8_t>(r))].insert(static_cast<int>(i));
   for (const baselines::VocabularyNode& n : nodes) {
     if (n.word < 0 || seen[n.word].empty()) continue;
     EXPECT_NEAR(n.weight, std::log(12.0 / seen[n.word].size()), 1e-5);
@@ -107,7 +107,9 @@ TEST(Bow, TrainedTreeIsAKMajorityHierarchyWithIdfWeights) {
   double total = 0;
   for (std::size_t i = 0; i < b.size(); ++i) {
     total += b[i].second;
-    if (i > 0) EXPECT_LT(b[i - 1].first, b[i].first);
+    if (i > 0) {
+      EXPECT_LT(b[i - 1].first, b[i].first);
+    }
   }
   EXPECT_NEAR(total, 1.0, 1e-5);
   EXPECT_NEAR(baselines::l1_score(b, b), 1.0, 1e-6);
@@ -119,7 +121,8 @@ TEST(Bow, ImageScoresOneWithItselfAndLowWithAnotherPlace) {
   baselines::OrbConfig orb;
   orb.features = 1000;
   std::vector<cv::Mat> training;
-  for (int f : {5, 40, 90, 130, 170, 210}) training.push_back(baselines::extract_orb(image(f), orb));
+  for (int f : {5, 40, 90, 130, 170, 210})
+    training.push_back(baselines::extract_orb(image(f), orb));
   baselines::VocabularyConfig vc;
   vc.branching = 8;
   vc.depth = 4;

@@ -88,7 +88,8 @@ TEST(Gist, FilterBankPeaksWhereDeclared) {
     const int i = static_cast<int>(it - g.transfer.begin());
     auto freq = [n](int k) { return (k < n / 2 ? k : k - n) / static_cast<double>(n); };
     const double fx = freq(i % n), fy = freq(i / n);
-    EXPECT_NEAR(std::hypot(fx, fy), g.peak_cycles_per_pixel, 1.5 / n) << g.scale << " " << g.orientation;
+    EXPECT_NEAR(std::hypot(fx, fy), g.peak_cycles_per_pixel, 1.5 / n)
+        << g.scale << " " << g.orientation;
     double da = std::atan2(fy, fx) - g.angle_rad;
     da = std::remainder(da, 2 * M_PI);
     EXPECT_LT(std::abs(da), 0.15) << g.scale << " " << g.orientation;

@@ -88,23 +88,24 @@ TEST(VocabularyFile, ReadsAHandMadeOrbVocText) {
 TEST(VocabularyFile, MalformedOrbVocTextNamesTheLine) {
   const std::string good = node_line(0, 1, 1, 1.0);
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"10 6 0\n" + good, ":1"},                          // header: 3 numbers
-      {"1 6 0 0\n" + good, "branching"},                  // k = 1
-      {"10 6 9 0\n" + good, "scoring"},                   // unknown scoring
-      {"10 6 0 0\n" + node_line(0, 1, 256, 1.0), ":2"},   // byte out of range
-      {"10 6 0 0\n" + good + "0 1 5\n", ":3"},            // short line
-      {"10 6 0 0\n" + node_line(3, 1, 1, 1.0), "parent"}, // forward reference
+      {"10 6 0\n" + good, ":1"},                                // header: 3 numbers
+      {"1 6 0 0\n" + good, "branching"},                        // k = 1
+      {"10 6 9 0\n" + good, "scoring"},                         // unknown scoring
+      {"10 6 0 0\n" + node_line(0, 1, 256, 1.0), ":2"},         // byte out of range
+      {"10 6 0 0\n" + good + "0 1 5\n", ":3"},                  // short line
+      {"10 6 0 0\n" + node_line(3, 1, 1, 1.0), "parent"},       // forward reference
       {"10 6 0 0\n" + good + node_line(1, 1, 1, 1.0), "leaf"},  // child of a word
       {"10 6 0 0\n" + node_line(0, 2, 1, 1.0), "is_leaf"},
       {"10 6 0 0\n" + node_line(0, 1, 1, -1.0), "weight"},
       {"10 6 0 0\n" + good + "x" + good, ":3"},
-      {"10 6 0 0\n", "node line"},                        // no nodes
+      {"10 6 0 0\n", "node line"},  // no nodes
   };
   for (const auto& [text, expected] : cases) {
     const fs::path p = temp_file("bad.txt");
     std::ofstream(p) << text;
     const std::string e = error_of(p.string());
-    EXPECT_NE(e.find(expected), std::string::npos) << "got: " << e << "\nfor:\n" << text.substr(0, 60);
+    EXPECT_NE(e.find(expected), std::string::npos) << "got: " << e << "\nfor:\n"
+                                                   << text.substr(0, 60);
     EXPECT_NE(e.find("bad.txt"), std::string::npos) << e;
   }
 }

@@ -64,7 +64,8 @@ TEST(Cli, MissingFileUnknownMethodAndFormatAreClearErrors) {
   CliResult r = run("describe --method nope" + base);
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("unknown method"), std::string::npos) << r.output;
-  r = run("describe --method sc --poses /nonexistent/p.txt --points x --out " + (d / "o2").string());
+  r = run("describe --method sc --poses /nonexistent/p.txt --points x --out " +
+          (d / "o2").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("/nonexistent/p.txt"), std::string::npos) << r.output;
   ASSERT_EQ(run("describe --method sc" + base).code, 0);

@@ -28,18 +28,19 @@ TEST(CliHardening, OptionValuesOutsideTheirRangeAreRefused) {
   const fs::path d = temp_dir("options");
   write_sequence(d, 40);
   const std::string out = " --out " + (d / "o").string();
-  for (const std::string& bad :
-       {" --threads 200000000", " --threads 0", " --range inf", " --range 1e308", " --range nan",
-        " --range -5", " --threads x"}) {
+  for (const std::string bad : {" --threads 200000000", " --threads 0", " --range inf",
+                                " --range 1e308", " --range nan", " --range -5", " --threads x"}) {
     const CliResult r = run(describe_args(d) + bad + out);
     EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
     EXPECT_TRUE(has(r, bad.substr(1, bad.find(' ', 1) - 1))) << r.output;  // names the option
   }
   EXPECT_EQ(run("db query --db x --signatures y --k 0 --out " + (d / "q").string()).code, 2);
-  EXPECT_EQ(run("db query --db x --signatures y --uniqueness nan --out " + (d / "q").string()).code, 2);
+  EXPECT_EQ(run("db query --db x --signatures y --uniqueness nan --out " + (d / "q").string()).code,
+            2);
   EXPECT_EQ(run("vocab train --kitti x --k 1000 --out " + (d / "v").string()).code, 2);
   EXPECT_EQ(run("render --trajectory builtin:short --scale 0 --out " + (d / "r").string()).code, 2);
-  EXPECT_EQ(run("simulate --trajectory builtin:short --drift nan --out " + (d / "s").string()).code, 2);
+  EXPECT_EQ(run("simulate --trajectory builtin:short --drift nan --out " + (d / "s").string()).code,
+            2);
   EXPECT_FALSE(fs::exists(d / "o") || fs::exists(d / "q") || fs::exists(d / "r"));
   // In range: the same run works and describes on many threads identically.
   ASSERT_EQ(run(describe_args(d) + " --threads 3 --range 45" + out).code, 0);
@@ -52,9 +53,11 @@ TEST(CliHardening, UnboundedInputsEndInAClearErrorFast) {
   // A KITTI sequence whose images announce 65535 x 65535 pixels.
   fs::create_directories(d / "seq/image_0");
   fs::create_directories(d / "seq/image_1");
-  write(d / "seq/calib.txt", "P0: 700 0 600 0 0 700 180 0 0 0 1 0\nP1: 700 0 600 -380 0 700 180 0 0 0 1 0\n");
+  write(d / "seq/calib.txt",
+        "P0: 700 0 600 0 0 700 180 0 0 0 1 0\nP1: 700 0 600 -380 0 700 180 0 0 0 1 0\n");
   write(d / "seq/times.txt", "0\n0.1\n");
-  for (const char* f : {"image_0/000000.png", "image_0/000001.png", "image_1/000000.png", "image_1/000001.png"}) {
+  for (const char* f :
+       {"image_0/000000.png", "image_0/000001.png", "image_1/000000.png", "image_1/000001.png"}) {
     std::ofstream(d / "seq" / f, std::ios::binary) << png_announcing(65535, 65535);
   }
   // An endless line (like /dev/zero): the text reader stops at its line bound.
@@ -71,7 +74,8 @@ TEST(CliHardening, UnboundedInputsEndInAClearErrorFast) {
   std::ofstream jump(d / "jump.txt");
   for (int i = 0; i < 30; ++i) jump << "1 0 0 0 0 1 0 0 0 0 1 " << (i == 10 ? 1e6 : i) << "\n";
   jump.close();
-  r = run("simulate --trajectory kitti:" + (d / "jump.txt").string() + " --out " + (d / "s").string());
+  r = run("simulate --trajectory kitti:" + (d / "jump.txt").string() + " --out " +
+          (d / "s").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(has(r, "jump.txt: expected a route of at most 100 km")) << r.output;
   EXPECT_TRUE(has(r, "between frames 9 and 10")) << r.output;
@@ -102,8 +106,9 @@ TEST(CliHardening, ValuesThatParseButMakeNoSenseAreRefused) {
     EXPECT_TRUE(has(r, "pairs.txt:2: expected `score label`")) << r.output;
   }
   // A camera yaml with a bad value: exit 2 (it was 1), with file and line.
-  write(d / "cam.yaml", "Camera.fx: 700\nCamera.fy: 700\nCamera.cx: 600\nCamera.cy: 180\n"
-                        "Camera.width: 1241\nCamera.height: 376\nCamera.bf: -1\n");
+  write(d / "cam.yaml",
+        "Camera.fx: 700\nCamera.fy: 700\nCamera.cx: 600\nCamera.cy: 180\n"
+        "Camera.width: 1241\nCamera.height: 376\nCamera.bf: -1\n");
   r = run("render --trajectory builtin:short --frames 1 --calib " + (d / "cam.yaml").string() +
           " --out " + (d / "r").string());
   EXPECT_EQ(r.code, 2);

@@ -135,35 +135,61 @@ TEST(CliKill, KilledWritersLeaveTheOldSetOrTheNewOneNeverAMix) {
   const fs::path d = temp_dir("kill");
   const std::string s = d.string();
   // Inputs: a simulated drive, its signatures, a few rendered frames.
-  ASSERT_EQ(run("simulate --trajectory builtin:short --seed 3 --out " + s + "/sim").code, 0);
-  const std::string poses = s + "/sim/poses_history_file.txt", pts = s + "/sim/pts_history_file.txt";
-  ASSERT_EQ(run("describe --method sc --poses " + poses + " --points " + pts + " --out " + s + "/sc").code, 0);
-  ASSERT_EQ(run("describe --method sc --range 30 --poses " + poses + " --points " + pts + " --out " + s + "/sc30").code, 0);
-  ASSERT_EQ(run("render --trajectory builtin:short --frames 24 --scale 0.25 --out " + s + "/ren").code, 0);
+  const std::string poses = s + "/sim/poses_history_file.txt",
+                    pts = s + "/sim/pts_history_file.txt";
+  for (const std::string& args :
+       {"simulate --trajectory builtin:short --seed 3 --out " + s + "/sim",
+        "describe --method sc --poses " + poses + " --points " + pts + " --out " + s + "/sc",
+        "describe --method sc --range 30 --poses " + poses + " --points " + pts + " --out " + s +
+            "/sc30",
+        "render --trajectory builtin:short --frames 24 --scale 0.25 --out " + s + "/ren"}) {
+    ASSERT_EQ(run(args).code, 0) << args;
+  }
   write(d / "pairs_a.txt", "0.9 1\n0.8 0\n0.7 1\n0.1 0\n");
   write(d / "pairs_b.txt", "0.9 0\n0.8 1\n0.2 1\n");
   const std::string gt = s + "/sim/gt.txt";
   std::vector<Writer> writers = {
-      {"describe", {"describe", "--method", "sc", "--poses", poses, "--points", pts},
-       {"describe", "--method", "sc", "--range", "30", "--poses", poses, "--points", pts}, d / "w/describe"},
-      {"evaluate", {"evaluate", "--method", "sc", "--signatures", s + "/sc", "--gt", gt},
-       {"evaluate", "--method", "sc", "--signatures", s + "/sc30", "--gt", gt}, d / "w/evaluate"},
-      {"pairs", {"pairs", "--scores", s + "/pairs_a.txt"}, {"pairs", "--scores", s + "/pairs_b.txt"}, d / "w/pairs"},
-      {"simulate", {"simulate", "--trajectory", "builtin:short", "--seed", "1"},
-       {"simulate", "--trajectory", "builtin:short", "--seed", "2"}, d / "w/simulate"},
-      {"render", {"render", "--trajectory", "builtin:short", "--frames", "6", "--scale", "0.25"},
-       {"render", "--trajectory", "builtin:short", "--frames", "5", "--scale", "0.25", "--season", "winter"},
+      {"describe",
+       {"describe", "--method", "sc", "--poses", poses, "--points", pts},
+       {"describe", "--method", "sc", "--range", "30", "--poses", poses, "--points", pts},
+       d / "w/describe"},
+      {"evaluate",
+       {"evaluate", "--method", "sc", "--signatures", s + "/sc", "--gt", gt},
+       {"evaluate", "--method", "sc", "--signatures", s + "/sc30", "--gt", gt},
+       d / "w/evaluate"},
+      {"pairs",
+       {"pairs", "--scores", s + "/pairs_a.txt"},
+       {"pairs", "--scores", s + "/pairs_b.txt"},
+       d / "w/pairs"},
+      {"simulate",
+       {"simulate", "--trajectory", "builtin:short", "--seed", "1"},
+       {"simulate", "--trajectory", "builtin:short", "--seed", "2"},
+       d / "w/simulate"},
+      {"render",
+       {"render", "--trajectory", "builtin:short", "--frames", "6", "--scale", "0.25"},
+       {"render", "--trajectory", "builtin:short", "--frames", "5", "--scale", "0.25", "--season",
+        "winter"},
        d / "w/render"},
-      {"vo", {"vo", "--kitti", s + "/ren", "--segments", "5", "--quiet"},
-       {"vo", "--kitti", s + "/ren", "--frames", "18", "--segments", "5", "--quiet"}, d / "w/vo"},
-      {"db build", {"db", "build", "--signatures", s + "/sc"}, {"db", "build", "--signatures", s + "/sc30"},
+      {"vo",
+       {"vo", "--kitti", s + "/ren", "--segments", "5", "--quiet"},
+       {"vo", "--kitti", s + "/ren", "--frames", "18", "--segments", "5", "--quiet"},
+       d / "w/vo"},
+      {"db build",
+       {"db", "build", "--signatures", s + "/sc"},
+       {"db", "build", "--signatures", s + "/sc30"},
        d / "w/map.db"},
-      {"db query", {"db", "query", "--db", s + "/w/map.db", "--signatures", s + "/sc", "--k", "3"},
-       {"db", "query", "--db", s + "/w/map.db", "--signatures", s + "/sc", "--k", "5"}, d / "w/query"},
-      {"vocab train", {"vocab", "train", "--kitti", s + "/ren", "--k", "4", "--depth", "2", "--step", "4"},
-       {"vocab", "train", "--kitti", s + "/ren", "--k", "3", "--depth", "2", "--step", "4"}, d / "w/voc.bin"},
-      {"run", {"run", "--kitti", s + "/ren", "--methods", "sc", "--segments", "5", "--quiet"},
-       {"run", "--kitti", s + "/ren", "--methods", "delight", "--segments", "5", "--quiet"}, d / "w/run"},
+      {"db query",
+       {"db", "query", "--db", s + "/w/map.db", "--signatures", s + "/sc", "--k", "3"},
+       {"db", "query", "--db", s + "/w/map.db", "--signatures", s + "/sc", "--k", "5"},
+       d / "w/query"},
+      {"vocab train",
+       {"vocab", "train", "--kitti", s + "/ren", "--k", "4", "--depth", "2", "--step", "4"},
+       {"vocab", "train", "--kitti", s + "/ren", "--k", "3", "--depth", "2", "--step", "4"},
+       d / "w/voc.bin"},
+      {"run",
+       {"run", "--kitti", s + "/ren", "--methods", "sc", "--segments", "5", "--quiet"},
+       {"run", "--kitti", s + "/ren", "--methods", "delight", "--segments", "5", "--quiet"},
+       d / "w/run"},
   };
   if (kills >= 50) {
     writers.push_back({"demo", {"demo", "--seed", "7"}, {"demo", "--seed", "8"}, d / "w/demo"});
@@ -173,8 +199,8 @@ TEST(CliKill, KilledWritersLeaveTheOldSetOrTheNewOneNeverAMix) {
     // The demo runs for half a minute: a fifth of the kills (at least 10) keeps the campaign short.
     const int n = w.name == "demo" ? std::max(10, kills / 5) : kills;
     const KillStats st = kill_test(w, n, rng);
-    std::printf("%-12s %3d kills: %3d left the old set, %3d the new set, %d mixed\n", w.name.c_str(),
-                st.kills, st.old_set, st.new_set, st.mixed);
+    std::printf("%-12s %3d kills: %3d left the old set, %3d the new set, %d mixed\n",
+                w.name.c_str(), st.kills, st.old_set, st.new_set, st.mixed);
   }
   fs::remove_all(d);
 }

@@ -25,7 +25,8 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   ASSERT_EQ(vo.code, 0) << vo.output;
   EXPECT_NE(vo.output.find("fps"), std::string::npos) << vo.output;
   EXPECT_NE(vo.output.find("translation"), std::string::npos) << vo.output;
-  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "trajectory.txt", "vo.json"})
+  for (const char* f :
+       {"poses_history_file.txt", "pts_history_file.txt", "trajectory.txt", "vo.json"})
     EXPECT_TRUE(fs::exists(d / "vo" / f)) << f;
   std::ifstream json_in(d / "vo/vo.json");
   const nlohmann::json j = nlohmann::json::parse(json_in);
@@ -34,9 +35,9 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   EXPECT_LT(j["metrics"]["translation_percent"].get<double>(), 5.0);
   EXPECT_GT(j["fps"].get<double>(), 0.0);
   // `describe` reads the VO's SO-DSO history unchanged.
-  const CliResult described = run("describe --method sc --poses " + (d / "vo/poses_history_file.txt").string() +
-                                  " --points " + (d / "vo/pts_history_file.txt").string() +
-                                  " --out " + (d / "sc").string());
+  const CliResult described = run(
+      "describe --method sc --poses " + (d / "vo/poses_history_file.txt").string() + " --points " +
+      (d / "vo/pts_history_file.txt").string() + " --out " + (d / "sc").string());
   EXPECT_EQ(described.code, 0) << described.output;
   EXPECT_TRUE(fs::exists(d / "sc/signatures.txt"));
   // Blank frames: an explicit reset, reported in vo.json.
@@ -52,8 +53,8 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   const CliResult all = run("run --kitti " + seq + " --out " + (d / "run").string() +
                             " --methods sc delight --segments 10 --quiet");
   ASSERT_EQ(all.code, 0) << all.output;
-  for (const char* f : {"report.html", "summary.json", "vo/vo.json", "sc/signatures.txt",
-                        "delight/signatures.txt"})
+  for (const char* f :
+       {"report.html", "summary.json", "vo/vo.json", "sc/signatures.txt", "delight/signatures.txt"})
     EXPECT_TRUE(fs::exists(d / "run" / f)) << f;
   std::ifstream summary_in(d / "run/summary.json");
   const nlohmann::json summary = nlohmann::json::parse(summary_in);
@@ -66,7 +67,8 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   }
   EXPECT_FALSE(has_temp_files(d));
   // Bad input: exit code 2, the file named, nothing written.
-  const CliResult missing = run("vo --kitti " + (d / "nope").string() + " --out " + (d / "x").string());
+  const CliResult missing =
+      run("vo --kitti " + (d / "nope").string() + " --out " + (d / "x").string());
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.output.find("nope"), std::string::npos) << missing.output;
   EXPECT_FALSE(fs::exists(d / "x"));
@@ -88,20 +90,23 @@ TEST(Cli, ImageBaselinesDescribeAndEvaluateTheSameKeyframes) {
   // Keyframes to describe: every other frame, as a describe output lists them.
   fs::create_directories(d / "kf");
   write(d / "kf/incoming_id_file.txt", "0\n2\n4\n6\n8\n10\n");
-  const CliResult voc = run("vocab train --kitti " + seq + " --step 3 --k 4 --depth 3 --features 500 --out " +
-                            (d / "voc.bin").string());
+  const CliResult voc =
+      run("vocab train --kitti " + seq + " --step 3 --k 4 --depth 3 --features 500 --out " +
+          (d / "voc.bin").string());
   ASSERT_EQ(voc.code, 0) << voc.output;
-  ASSERT_EQ(run("vocab train --kitti " + seq + " --step 3 --k 4 --depth 3 --features 500 --text --out " +
-                (d / "voc.txt").string()).code, 0);
+  ASSERT_EQ(run("vocab train --kitti " + seq +
+                " --step 3 --k 4 --depth 3 --features 500 --text --out " + (d / "voc.txt").string())
+                .code,
+            0);
   for (const std::string& m : {std::string("gist"), std::string("bow")}) {
     const std::string vocab = m == "bow" ? " --vocab " + (d / "voc.txt").string() : "";
     const CliResult desc = run("describe --method " + m + " --kitti " + seq + " --keyframes " +
                                (d / "kf").string() + vocab + " --out " + (d / m).string());
     ASSERT_EQ(desc.code, 0) << desc.output;
     EXPECT_EQ(read_lines(d / m / "incoming_id_file.txt").size(), 6u);
-    const CliResult ev = run("evaluate --method " + m + " --signatures " + (d / m).string() +
-                             " --gt " + seq + "/poses.txt --mask 3 --threshold 3 --out " +
-                             (d / m / "eval").string());
+    const CliResult ev =
+        run("evaluate --method " + m + " --signatures " + (d / m).string() + " --gt " + seq +
+            "/poses.txt --mask 3 --threshold 3 --out " + (d / m / "eval").string());
     ASSERT_EQ(ev.code, 0) << ev.output;
     std::ifstream in(d / m / "eval/metrics.json");
     const nlohmann::json j = nlohmann::json::parse(in);
@@ -111,12 +116,16 @@ TEST(Cli, ImageBaselinesDescribeAndEvaluateTheSameKeyframes) {
   EXPECT_EQ(read_lines(d / "gist/signatures.txt").size(), 6u);
   // GIST on two threads: the same descriptors.
   ASSERT_EQ(run("describe --method gist --threads 2 --kitti " + seq + " --keyframes " +
-                (d / "kf").string() + " --out " + (d / "gist2").string()).code, 0);
+                (d / "kf").string() + " --out " + (d / "gist2").string())
+                .code,
+            0);
   EXPECT_EQ(read_lines(d / "gist2/signatures.txt"), read_lines(d / "gist/signatures.txt"));
   EXPECT_EQ(read_lines(d / "bow/bow.txt").size(), 6u);
   // Bad input: no vocabulary, a keyframe beyond the sequence, a damaged bow.txt.
   EXPECT_EQ(run("describe --method bow --kitti " + seq + " --keyframes " + (d / "kf").string() +
-                " --out " + (d / "x").string()).code, 2);
+                " --out " + (d / "x").string())
+                .code,
+            2);
   fs::create_directories(d / "kf2");
   write(d / "kf2/incoming_id_file.txt", "0\n99\n");
   const CliResult beyond = run("describe --method gist --kitti " + seq + " --keyframes " +
@@ -125,8 +134,8 @@ TEST(Cli, ImageBaselinesDescribeAndEvaluateTheSameKeyframes) {
   EXPECT_NE(beyond.output.find("99"), std::string::npos) << beyond.output;
   EXPECT_FALSE(fs::exists(d / "y"));
   write(d / "bow/bow.txt", "1 0.5 3 0.5\n4 0.25 2 0.75\n");
-  const CliResult bad = run("evaluate --method bow --signatures " + (d / "bow").string() + " --gt " +
-                            seq + "/poses.txt --out " + (d / "z").string());
+  const CliResult bad = run("evaluate --method bow --signatures " + (d / "bow").string() +
+                            " --gt " + seq + "/poses.txt --out " + (d / "z").string());
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.output.find("bow.txt:2"), std::string::npos) << bad.output;
   EXPECT_FALSE(has_temp_files(d));

@@ -62,7 +62,8 @@ TEST(OdometryMetrics, ScaleDriftIsThePercentage) {
 TEST(OdometryMetrics, RigidlyMovedEstimateHasNoRelativeErrorAndZeroAte) {
   const auto gt = curvy_drive(400);
   Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();
-  offset.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  offset.linear() =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   offset.translation() = Eigen::Vector3d(5, -3, 40);
   std::vector<Eigen::Isometry3d> est;
   for (const auto& T : gt) est.push_back(offset * T);
@@ -78,7 +79,8 @@ TEST(OdometryMetrics, HeadingDriftShowsAsRotationError) {
   std::vector<Eigen::Isometry3d> est;
   for (std::size_t i = 0; i < gt.size(); ++i) {
     Eigen::Isometry3d T = gt[i];
-    T.linear() = T.linear() * Eigen::AngleAxisd(0.0002 * i, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    T.linear() =
+        T.linear() * Eigen::AngleAxisd(0.0002 * i, Eigen::Vector3d::UnitY()).toRotationMatrix();
     est.push_back(T);
   }
   eval::OdometryOptions o;

@@ -88,7 +88,8 @@ TEST_F(BadValues, BowVectorsAndVocabulariesMustHoldFiniteWeightsAndBoundedWords)
   expect_bad(bow, "0 0.5 3 1e39\n", 1, "weights finite");  // beyond single precision
   expect_bad(bow, "0 0.5 16777216 0.5\n", 1, "at most 16777215");
   EXPECT_EQ(read_bow_vectors(file("ok.txt", "0 0.5 16777215 0.5\n"))[0].size(), 2u);
-  const std::string node = " 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 ";
+  const std::string node =
+      " 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 ";
   expect_bad([](auto p) { read_orbvoc_text(p); }, "2 1 0 0\n0 1" + node + "nan\n", 2, "finite");
   // Binary: a NaN weight behind a valid checksum.
   VocabularyData v;

@@ -111,9 +111,11 @@ TEST_F(OutputSetTest, UserFilesAreNeverReplaced) {
   { OutputSet(target(), OutputSet::Kind::Directory).commit(); }
   EXPECT_TRUE(fs::exists(target() + "/.loopscan"));
   put(dir_.string(), "file.txt", "x");
-  EXPECT_TRUE(has(error_of([&] { OutputSet((dir_ / "file.txt").string(), OutputSet::Kind::Directory); }),
-                  "a directory (it is a file)"));
-  EXPECT_TRUE(has(error_of([&] { OutputSet(target(), OutputSet::Kind::File); }), "it is a directory"));
+  EXPECT_TRUE(
+      has(error_of([&] { OutputSet((dir_ / "file.txt").string(), OutputSet::Kind::Directory); }),
+          "a directory (it is a file)"));
+  EXPECT_TRUE(
+      has(error_of([&] { OutputSet(target(), OutputSet::Kind::File); }), "it is a directory"));
   EXPECT_TRUE(has(error_of([&] { OutputSet(".", OutputSet::Kind::Directory); }), "not '.'"));
 }
 
@@ -137,8 +139,9 @@ TEST_F(OutputSetTest, FileTargetsHoldTheLockAndClearStaleTemporaries) {
   {
     OutputSet set((dir_ / "map.db").string(), OutputSet::Kind::File);
     EXPECT_EQ(set.path(), (dir_ / "map.db").string());
-    EXPECT_TRUE(has(error_of([&] { OutputSet again((dir_ / "map.db").string(), OutputSet::Kind::File); }),
-                    "no other loopscan command"));
+    EXPECT_TRUE(
+        has(error_of([&] { OutputSet again((dir_ / "map.db").string(), OutputSet::Kind::File); }),
+            "no other loopscan command"));
     put(dir_.string(), "map.db", "written");
     set.commit();
   }

@@ -16,8 +16,8 @@ inline cv::Mat random_descriptors(int n, std::mt19937& rng) {
   return m;
 }
 
-inline baselines::Vocabulary random_vocabulary(unsigned seed, int n_images, int per_image, int k, int L,
-                                               std::vector<cv::Mat>* training = nullptr) {
+inline baselines::Vocabulary random_vocabulary(unsigned seed, int n_images, int per_image, int k,
+                                               int L, std::vector<cv::Mat>* training = nullptr) {
   std::mt19937 rng(seed);
   std::vector<cv::Mat> images;
   for (int i = 0; i < n_images; ++i) images.push_back(random_descriptors(per_image, rng));

@@ -22,8 +22,8 @@ struct ShortStreet {
   cv::Mat render(int frame, int camera_index) const {
     sim::RenderConfig rc;
     rc.threads = 2;
-    const sim::GrayImage g =
-        sim::render_view(world, conditions, camera, route.T_world_cam[frame], camera_index, frame, rc);
+    const sim::GrayImage g = sim::render_view(world, conditions, camera, route.T_world_cam[frame],
+                                              camera_index, frame, rc);
     return cv::Mat(g.height, g.width, CV_8UC1, const_cast<std::uint8_t*>(g.pixels.data())).clone();
   }
 };

@@ -99,8 +99,9 @@ TEST(StereoVo, TracksARightTurn) {
   o.segment_lengths_m = {10, 20, 30};
   o.step_frames = 1;
   const eval::OdometryMetrics m = eval::odometry_metrics(d.gt, d.trajectory, o);
-  std::printf("turn of %.0f deg over 39 m: translation %.3f %%, rotation %.3f deg/100 m, ATE %.3f m\n",
-              turned, m.translation_percent, m.rotation_deg_per_100m, m.ate_rmse_m);
+  std::printf(
+      "turn of %.0f deg over 39 m: translation %.3f %%, rotation %.3f deg/100 m, ATE %.3f m\n",
+      turned, m.translation_percent, m.rotation_deg_per_100m, m.ate_rmse_m);
   EXPECT_LT(m.translation_percent, 2.0);
   EXPECT_LT(m.rotation_deg_per_100m, 5.0);
   EXPECT_NEAR(yaw_change_deg(d.trajectory), turned, 1.0);
@@ -124,7 +125,9 @@ TEST(StereoVo, ExportedPointsLieOnTheSurfacesWhereTheyWereSelected) {
       EXPECT_NEAR(s.camera.fy * p_cam.y() / p_cam.z() + s.camera.cy, cp.v, 1e-6);
       // The gray is the surface's beside the edge: 2 px along the gradient, flatter side.
       const int u = static_cast<int>(cp.u), v = static_cast<int>(cp.v);
-      auto gray_at = [&](int x, int y) { return static_cast<double>(image.at<std::uint8_t>(y, x)); };
+      auto gray_at = [&](int x, int y) {
+        return static_cast<double>(image.at<std::uint8_t>(y, x));
+      };
       auto grad = [&](int x, int y) {
         return std::hypot(0.5 * (gray_at(x + 1, y) - gray_at(x - 1, y)),
                           0.5 * (gray_at(x, y + 1) - gray_at(x, y - 1)));
@@ -155,8 +158,10 @@ TEST(StereoVo, ExportedPointsLieOnTheSurfacesWhereTheyWereSelected) {
         ++pixel_ok;
     }
   }
-  std::printf("%d points: %.1f %% within 1 px of a true disparity in the window, %.1f %% reproject within 2 px\n",
-              checked, 100.0 * depth_ok / checked, 100.0 * pixel_ok / checked);
+  std::printf(
+      "%d points: %.1f %% within 1 px of a true disparity in the window, %.1f %% reproject within "
+      "2 px\n",
+      checked, 100.0 * depth_ok / checked, 100.0 * pixel_ok / checked);
   EXPECT_GT(depth_ok, 0.95 * checked);
   EXPECT_GT(pixel_ok, 0.9 * checked);
 }

@@ -82,13 +82,16 @@ TEST(StereoMatch, EqualsTheStraightforwardSearch) {
     const int h = 1 + static_cast<int>(rng() % 3);
     const int d_lo = static_cast<int>(rng() % 10), d_hi = d_lo + 3 + static_cast<int>(rng() % 60);
     if (y - h < 0 || y + h >= 30 || x + h >= 160) continue;
-    const double fast = vo::match_disparity(left, right, x, y, {double(d_lo), double(d_hi), h, 0.9, false});
+    const double fast =
+        vo::match_disparity(left, right, x, y, {double(d_lo), double(d_hi), h, 0.9, false});
     const double slow = naive_disparity(left, right, x, y, d_lo, d_hi, h, 0.9);
     ++compared;
-    ASSERT_EQ(std::isfinite(fast), std::isfinite(slow)) << x << " " << y << " " << h << " " << d_lo << " " << d_hi;
+    ASSERT_EQ(std::isfinite(fast), std::isfinite(slow))
+        << x << " " << y << " " << h << " " << d_lo << " " << d_hi;
     if (std::isfinite(fast)) {
       ++finite;
-      EXPECT_NEAR(fast, std::clamp(slow, std::floor(slow + 0.5) - 0.5, std::floor(slow + 0.5) + 0.5), 1e-9);
+      EXPECT_NEAR(
+          fast, std::clamp(slow, std::floor(slow + 0.5) - 0.5, std::floor(slow + 0.5) + 0.5), 1e-9);
     }
   }
   EXPECT_GT(compared, 300);
@@ -158,16 +161,20 @@ TEST(BundleAdjustment, RecoversPerturbedPosesAndPoints) {
   }
   vo::BaProblem problem = truth;
   for (int k = 2; k < 5; ++k) {
-    problem.T_cam_world[k].translation() += 0.05 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    problem.T_cam_world[k].translation() +=
+        0.05 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
     problem.T_cam_world[k].linear() =
         Eigen::AngleAxisd(0.005, Eigen::Vector3d::UnitX()).toRotationMatrix() *
         problem.T_cam_world[k].linear();
   }
-  for (Eigen::Vector3d& p : problem.points) p += 0.05 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  for (Eigen::Vector3d& p : problem.points)
+    p += 0.05 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
   const vo::BaSummary s = vo::bundle_adjust(problem, cam, 50, 1.5);
   EXPECT_LT(s.final_cost, 1e-6 * std::max(1.0, s.initial_cost));
   for (int k = 0; k < 5; ++k) {
-    EXPECT_LT((problem.T_cam_world[k].translation() - truth.T_cam_world[k].translation()).norm(), 1e-4) << k;
+    EXPECT_LT((problem.T_cam_world[k].translation() - truth.T_cam_world[k].translation()).norm(),
+              1e-4)
+        << k;
   }
   EXPECT_TRUE(problem.T_cam_world[0].isApprox(truth.T_cam_world[0]));  // fixed: untouched
   for (const vo::BaObservation& o : problem.observations)

@@ -15,7 +15,8 @@ int InvertedIndex::add(const BowVector& v) {
   }
   const int id = static_cast<int>(images_++);
   for (const auto& [word, weight] : v) {
-    if (word >= static_cast<int>(postings_.size())) postings_.resize(static_cast<std::size_t>(word) + 1);
+    if (word >= static_cast<int>(postings_.size()))
+      postings_.resize(static_cast<std::size_t>(word) + 1);
     postings_[word].images.push_back(id);
     postings_[word].weights.push_back(weight);
   }

@@ -15,7 +15,8 @@ void write_bow_vectors(const std::string& path, const std::vector<SparseVector>&
   std::ostringstream s;
   s.precision(9);
   for (const SparseVector& v : vectors) {
-    for (std::size_t i = 0; i < v.size(); ++i) s << (i ? " " : "") << v[i].first << ' ' << v[i].second;
+    for (std::size_t i = 0; i < v.size(); ++i)
+      s << (i ? " " : "") << v[i].first << ' ' << v[i].second;
     s << '\n';
   }
   write_file_atomic(path, s.str());
@@ -25,9 +26,8 @@ std::vector<SparseVector> read_bow_vectors(const std::string& path) {
   LineReader reader(path);
   std::string_view line;
   std::vector<SparseVector> out;
-  const std::string expected =
-      "`word weight` pairs: word ids increasing from 0 (at most " +
-      std::to_string(limits::kMaxWordId) + "), weights finite and > 0";
+  const std::string expected = "`word weight` pairs: word ids increasing from 0 (at most " +
+                               std::to_string(limits::kMaxWordId) + "), weights finite and > 0";
   while (reader.next(line)) {
     SparseVector v;
     Tokenizer t(line);
@@ -36,8 +36,8 @@ std::vector<SparseVector> read_bow_vectors(const std::string& path) {
       int word = 0;
       float weight = 0;
       if (!parse_number(tok, word) || word < 0 || word > limits::kMaxWordId ||
-          (!v.empty() && word <= v.back().first) ||
-          !t.next(tok) || !parse_number(tok, weight) || !std::isfinite(weight) || weight <= 0) {
+          (!v.empty() && word <= v.back().first) || !t.next(tok) || !parse_number(tok, weight) ||
+          !std::isfinite(weight) || weight <= 0) {
         throw InputError(path, reader.line_number(), expected);
       }
       v.emplace_back(word, weight);

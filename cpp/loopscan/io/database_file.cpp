@@ -48,7 +48,8 @@ void check_place(const Reader& r, std::uint64_t i, const PlaceRef& p,
            std::to_string(p.keyframe) + ", expected both >= 0");
   }
   const Eigen::Matrix3d f = frame.cast<double>();
-  if (!f.allFinite() || !((f * f.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3)) {
+  if (!f.allFinite() ||
+      !((f * f.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3)) {
     r.fail(place + "the descriptor frame is not a rotation matrix");
   }
   if (pose && !(pose->cwiseAbs().maxCoeff() <= limits::kMaxCoordinateM)) {

@@ -7,8 +7,8 @@
 #include <string_view>
 
 #include <loopscan/io/errors.hpp>
-#include <loopscan/io/line_reader.hpp>
 #include <loopscan/io/limits.hpp>
+#include <loopscan/io/line_reader.hpp>
 #include <loopscan/io/parse_numbers.hpp>
 
 namespace loopscan::io {

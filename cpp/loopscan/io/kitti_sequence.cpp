@@ -4,8 +4,8 @@
 #include <filesystem>
 
 #include "loopscan/io/errors.hpp"
-#include "loopscan/io/line_reader.hpp"
 #include "loopscan/io/limits.hpp"
+#include "loopscan/io/line_reader.hpp"
 #include "loopscan/io/parse_numbers.hpp"
 
 namespace loopscan::io {

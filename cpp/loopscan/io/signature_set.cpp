@@ -26,9 +26,9 @@ SignatureSet load_signature_set(const std::string& path, Method method,
   const int rows = rows_per_place(method);
   if (all.rows() != static_cast<Eigen::Index>(set.keyframe_ids.size()) * rows) {
     throw InputError(sig_file, 0,
-                         std::to_string(set.keyframe_ids.size() * rows) + " rows (" +
-                             std::to_string(rows) + " per id in " + id_file + "), found " +
-                             std::to_string(all.rows()));
+                     std::to_string(set.keyframe_ids.size() * rows) + " rows (" +
+                         std::to_string(rows) + " per id in " + id_file + "), found " +
+                         std::to_string(all.rows()));
   }
   for (std::size_t i = 0; i < set.keyframe_ids.size(); ++i) {
     set.places.push_back(all.middleRows(static_cast<Eigen::Index>(i) * rows, rows));
@@ -39,8 +39,8 @@ SignatureSet load_signature_set(const std::string& path, Method method,
     const Eigen::MatrixXd f = read_matrix_text(frames_file, 9, 1.0 + 1e-6);
     if (f.rows() != static_cast<Eigen::Index>(set.places.size())) {
       throw InputError(frames_file, 0,
-                           std::to_string(set.places.size()) + " rows (one per id in " + id_file +
-                               "), found " + std::to_string(f.rows()));
+                       std::to_string(set.places.size()) + " rows (one per id in " + id_file +
+                           "), found " + std::to_string(f.rows()));
     }
     for (std::size_t i = 0; i < set.frames.size(); ++i) {
       for (int k = 0; k < 9; ++k) set.frames[i](k / 3, k % 3) = f(static_cast<Eigen::Index>(i), k);
@@ -60,8 +60,8 @@ std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
   for (int id : keyframe_ids) {
     if (id < 0 || static_cast<std::size_t>(id) >= all.size()) {
       throw InputError(gt_path, 0,
-                           "a line for keyframe id " + std::to_string(id) + " (file has " +
-                               std::to_string(all.size()) + " lines)");
+                       "a line for keyframe id " + std::to_string(id) + " (file has " +
+                           std::to_string(all.size()) + " lines)");
     }
     out.push_back(all[id]);
   }

@@ -6,8 +6,8 @@
 #include <Eigen/Core>
 
 #include <loopscan/io/errors.hpp>
-#include <loopscan/io/line_reader.hpp>
 #include <loopscan/io/limits.hpp>
+#include <loopscan/io/line_reader.hpp>
 #include <loopscan/io/parse_numbers.hpp>
 
 namespace loopscan::io {

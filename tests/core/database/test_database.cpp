@@ -9,9 +9,9 @@
 #include <set>
 
 #include "loopscan/core/database/database.hpp"
+#include "loopscan/core/database/key_index.hpp"
 #include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/matching/fusion.hpp"
-#include "loopscan/core/database/key_index.hpp"
 #include "loopscan/core/matching/pair_distance.hpp"
 #include "loopscan/core/matching/scan_context_spectra.hpp"
 #include "support/random_signatures.hpp"
@@ -22,7 +22,6 @@ namespace {
 
 using test::oracle;
 using test::random_signature;
-
 
 TEST(KeyIndex, NearestEqualsBruteForceAmongEligible) {
   for (int dims : {2, 20}) {

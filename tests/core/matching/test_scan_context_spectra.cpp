@@ -9,9 +9,9 @@
 #include <set>
 
 #include "loopscan/core/database/database.hpp"
+#include "loopscan/core/database/key_index.hpp"
 #include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/matching/fusion.hpp"
-#include "loopscan/core/database/key_index.hpp"
 #include "loopscan/core/matching/pair_distance.hpp"
 #include "loopscan/core/matching/scan_context_spectra.hpp"
 #include "support/random_signatures.hpp"

@@ -80,7 +80,7 @@ TEST(Preconditions, FiltersDropPointsWithoutACellAndKeepTheRest) {
   const Cloud inside = test::street_cloud(5, 3000);
   Cloud with_outsiders = inside;
   for (int k = 0; k < 40; ++k) {  // spread through the cloud to reach the vector lanes
-    const Eigen::Vector3d far = k % 3 == 0 ? Eigen::Vector3d(1e30, 0, 0)
+    const Eigen::Vector3d far = k % 3 == 0   ? Eigen::Vector3d(1e30, 0, 0)
                                 : k % 3 == 1 ? Eigen::Vector3d(0, -46, 0)
                                              : Eigen::Vector3d(kNan, 1, 1);
     with_outsiders.insert(with_outsiders.begin() + 70 * k, PointI{far, 5.f});
@@ -90,9 +90,10 @@ TEST(Preconditions, FiltersDropPointsWithoutACellAndKeepTheRest) {
     const Cloud expected = filter_camera_points(to_camera_points(inside), f, c);
     Cloud in_range = with_outsiders;
     if (f == ScanFilter::Polar) {  // polar cells exist for any finite point: drop only NaN there
-      in_range.erase(std::remove_if(in_range.begin(), in_range.end(),
-                                    [](const PointI& q) { return q.p.x() == 1e30 || q.p.y() == -46; }),
-                     in_range.end());
+      in_range.erase(
+          std::remove_if(in_range.begin(), in_range.end(),
+                         [](const PointI& q) { return q.p.x() == 1e30 || q.p.y() == -46; }),
+          in_range.end());
     }
     const Cloud got = filter_camera_points(to_camera_points(in_range), f, c);
     ASSERT_EQ(got.size(), expected.size()) << (f == ScanFilter::Polar ? "polar" : "cartesian");

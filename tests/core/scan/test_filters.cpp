@@ -5,8 +5,8 @@
 #include <map>
 #include <set>
 
-#include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/core/descriptors/fast_angle.hpp"
+#include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/core/scan/point_filter.hpp"
 #include "loopscan/core/scan/scan_imitator.hpp"
 #include "support/test_support.hpp"

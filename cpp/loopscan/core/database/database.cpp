@@ -6,9 +6,9 @@
 
 #include <Eigen/LU>
 
-#include "loopscan/core/parallel.hpp"
 #include "loopscan/core/database/database_checks.hpp"
 #include "loopscan/core/database/place_store.hpp"
+#include "loopscan/core/parallel.hpp"
 
 namespace loopscan {
 namespace {

@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "loopscan/core/database/place_store.hpp"
 #include "loopscan/core/matching/delight_packed.hpp"
 #include "loopscan/core/matching/pair_distance.hpp"
-#include "loopscan/core/database/place_store.hpp"
 
 namespace loopscan {
 namespace {

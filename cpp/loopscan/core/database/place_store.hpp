@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "loopscan/core/database/database.hpp"
-#include "loopscan/core/payload_arena.hpp"
 #include "loopscan/core/matching/scan_context_spectra.hpp"
+#include "loopscan/core/payload_arena.hpp"
 
 namespace loopscan {
 

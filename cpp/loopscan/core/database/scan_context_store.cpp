@@ -20,8 +20,8 @@ namespace loopscan {
 namespace {
 
 constexpr int kKeyFrequencies = 2;
-constexpr float kKeyScale = 8192.f;   // quantisation of the spectral key (see spectral_key)
-constexpr int kRingsPerKey = 2;       // rings summed into one dimension of the tree's key
+constexpr float kKeyScale = 8192.f;  // quantisation of the spectral key (see spectral_key)
+constexpr int kRingsPerKey = 2;      // rings summed into one dimension of the tree's key
 
 class ScanContextStore final : public PlaceStore {
   struct SpectraQuery : Query {
@@ -54,7 +54,8 @@ class ScanContextStore final : public PlaceStore {
   }
   void stored(std::size_t i, float* out) const override {
     std::copy(arena_.at(i), arena_.at(i) + spectra_.floats_per_place(), out);
-    std::copy(keys_.at(i), keys_.at(i) + keys_.floats_per_record(), out + spectra_.floats_per_place());
+    std::copy(keys_.at(i), keys_.at(i) + keys_.floats_per_record(),
+              out + spectra_.floats_per_place());
   }
   std::size_t memory_bytes() const override {
     return arena_.memory_bytes() + keys_.memory_bytes() + index_bytes();
@@ -82,9 +83,8 @@ class ScanContextStore final : public PlaceStore {
     out[1] = (1.0 - double(best[1])) / 2.0;
   }
 
-  void candidates(const Query& query, std::size_t count, std::size_t pool,
-                  const Eligible& eligible, std::size_t,
-                  std::vector<std::size_t>& out) const override {
+  void candidates(const Query& query, std::size_t count, std::size_t pool, const Eligible& eligible,
+                  std::size_t, std::vector<std::size_t>& out) const override {
     const auto& q = static_cast<const SpectraQuery&>(query);
     std::vector<std::pair<float, std::size_t>> near;
     index_.nearest(q.ring_key.data(), std::max(count, pool), eligible, near);

@@ -151,7 +151,8 @@ Cloud filter_camera_points(const CameraPoints& p, ScanFilter filter, const Imita
     if (i < a.n_vec && !check[i]) continue;
     const double x = p.x[i], y = p.y[i], z = p.z[i];
     if (filter == ScanFilter::Cartesian) {
-      if (!(std::abs(p.x[i]) < a.range && std::abs(p.y[i]) < a.range && std::abs(p.z[i]) < a.range)) {
+      if (!(std::abs(p.x[i]) < a.range && std::abs(p.y[i]) < a.range &&
+            std::abs(p.z[i]) < a.range)) {
         keys[i] = static_cast<std::uint32_t>(a.outside_key);
         continue;
       }

@@ -4,8 +4,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "loopscan/core/scan/camera_points.hpp"
 #include "loopscan/core/config.hpp"
+#include "loopscan/core/scan/camera_points.hpp"
 
 namespace loopscan {
 
