@@ -6,7 +6,10 @@
 // in the scratch directory, whose path is printed first; other findings are copied to
 // --findings. Deterministic: case i of a target depends only on --seed, the name and i.
 #include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -33,6 +36,8 @@ extern "C" const char* __asan_default_options() {
 }
 #endif
 
+extern char** environ;
+
 namespace loopscan::fuzz {
 namespace {
 
@@ -47,6 +52,7 @@ struct Options {
   std::string findings = "fuzz-findings";
   double hang_seconds = 20;
   bool self_test = false;  // fuzz a deliberately faulty reader: succeed only if it is caught
+  std::string cli;         // --cli PATH: run the `loopscan` commands instead of the readers
 };
 
 // A reader with a planted defect (it throws std::runtime_error on a NaN token, as a reader
@@ -102,6 +108,47 @@ class StderrTo {
   int saved_;
 };
 
+// The CLI on the case: exit code 0 accepted, 2 clean error; anything else (1, a signal, a
+// sanitizer abort, running past --hang-seconds) is a finding. Output in <work>/cli.txt.
+int run_command(const Options& o, const Target& t, const fs::path& dir, const fs::path& out,
+                long variant, std::string& what) {
+  fs::remove_all(out);
+  std::vector<std::string> args = {o.cli};
+  for (std::string& a : t.command(dir.string(), out.string(), variant)) args.push_back(a);
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string log = (dir.parent_path() / "cli.txt").string();
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  pid_t pid = -1;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) throw std::runtime_error("cannot start " + o.cli);
+  int status = 0;
+  const auto t0 = Clock::now();
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::duration<double>(Clock::now() - t0).count() > o.hang_seconds) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      what = "the command ran longer than " + std::to_string(o.hang_seconds) + " s";
+      return 2;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  if (WIFEXITED(status) && (WEXITSTATUS(status) == 0 || WEXITSTATUS(status) == 2)) {
+    return WEXITSTATUS(status) == 0 ? 0 : 1;
+  }
+  std::ifstream in(log);
+  const std::string output{std::istreambuf_iterator<char>(in), {}};
+  what = (WIFEXITED(status) ? "exit code " + std::to_string(WEXITSTATUS(status))
+                            : "signal " + std::to_string(WTERMSIG(status))) +
+         ": " + output.substr(0, 2000);
+  return 2;
+}
+
 // The case's outcome: 0 accepted, 1 clean error, 2 finding (message in `what`).
 int run_case(const Target& t, const fs::path& dir, std::string& what) {
   std::optional<StderrTo> quiet;
@@ -145,7 +192,8 @@ Counts fuzz_target(const Target& t, const Options& o, const fs::path& work, doub
         std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now().time_since_epoch())
             .count();
     std::string what;
-    const int outcome = run_case(t, dir, what);
+    const int outcome =
+        o.cli.empty() ? run_case(t, dir, what) : run_command(o, t, dir, work / "out", i, what);
     progress.started_ms = 0;
     ++c.cases;
     c.accepted += outcome == 0;
@@ -184,10 +232,12 @@ Options parse(int argc, char** argv) {
       o.hang_seconds = std::stod(value());
     else if (a == "--self-test")
       o.self_test = true;
+    else if (a == "--cli")
+      o.cli = value();
     else
       throw std::invalid_argument("unknown option " + a +
                                   " (--seconds S | --cases N, --target NAME, --seed K, "
-                                  "--findings DIR, --hang-seconds S, --self-test)");
+                                  "--findings DIR, --hang-seconds S, --self-test, --cli PATH)");
   }
   return o;
 }
@@ -201,6 +251,8 @@ int main_impl(int argc, char** argv) {
   std::vector<Target> targets;
   if (o.self_test) {
     targets.push_back(faulty_reader());
+  } else if (!o.cli.empty()) {
+    targets = cli_targets();
   } else {
     targets = text_targets();
     for (Target& t : binary_targets()) targets.push_back(std::move(t));

@@ -26,6 +26,11 @@ struct Target {
   std::string mutated_file;   // the file of a seed that cases mutate ("" = the only one)
   // Reads the input in `dir`; throws io::InputError or std::invalid_argument on bad input.
   std::function<void(const std::string& dir)> read;
+  // --cli mode instead: the `loopscan` arguments that read the input in `dir` and write to
+  // `out`; `variant` (the case number) may choose among methods.
+  std::function<std::vector<std::string>(const std::string& dir, const std::string& out,
+                                         long variant)>
+      command;
 };
 
 // A target reading one file: `read_file(dir + "/" + file)` on each seed's bytes.
@@ -39,5 +44,7 @@ std::string bytes_written_by(const std::function<void(const std::string& path)>&
 // Every reader of loopscan that takes a file from a user (targets_text.cpp, targets_binary.cpp).
 std::vector<Target> text_targets();
 std::vector<Target> binary_targets();
+// The CLI commands that read user files, whole (exit code 0 or 2 expected): targets_cli.cpp.
+std::vector<Target> cli_targets();
 
 }  // namespace loopscan::fuzz

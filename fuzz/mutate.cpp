@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -74,6 +76,31 @@ void replace_token(std::string& s, Rng& rng) {
   std::string with = kHostileTokens[pick(rng, kHostileTokens.size())];
   if (pick(rng, 20) == 0) with = std::string(1 + pick(rng, 2000), '9');  // a very long number
   s.replace(at, len, with);
+}
+
+// A numeric token becomes another valid number (scaled, negated, zero, tiny, large): the
+// input still parses, so what follows the reader (geometry, descriptors, matching) runs on it.
+void perturb_number(std::string& s, Rng& rng) {
+  std::vector<std::pair<std::size_t, std::size_t>> numbers;
+  for (std::size_t i = 0; i < s.size();) {
+    while (i < s.size() && (s[i] == ' ' || s[i] == '\n' || s[i] == '\t')) ++i;
+    const std::size_t start = i;
+    while (i < s.size() && s[i] != ' ' && s[i] != '\n' && s[i] != '\t') ++i;
+    const std::string token = s.substr(start, i - start);
+    char* end = nullptr;
+    if (!token.empty()) {
+      std::strtod(token.c_str(), &end);
+      if (*end == '\0') numbers.emplace_back(start, i - start);
+    }
+  }
+  if (numbers.empty()) return;
+  const auto [at, len] = numbers[pick(rng, numbers.size())];
+  const double v = std::strtod(s.substr(at, len).c_str(), nullptr);
+  const std::array<double, 8> factors = {-1, 0, 2, 0.5, 1e-9, 1e3, 1e6, -1e4};
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g",
+                pick(rng, 3) ? v * factors[pick(rng, factors.size())] : double(pick(rng, 200)));
+  s.replace(at, len, buf);
 }
 
 void mutate_lines(std::string& s, Rng& rng) {
@@ -178,11 +205,15 @@ std::string mutate(const std::string& bytes, const Target& t, Rng& rng) {
   std::string s = bytes;
   const std::size_t n = 1 + pick(rng, 4);
   for (std::size_t k = 0; k < n; ++k) {
-    if (t.format == Format::Text && pick(rng, 3) != 0) {
-      if (pick(rng, 2))
+    if (t.format == Format::Text && pick(rng, 4) != 0) {
+      const std::size_t kind = pick(rng, 3);
+      if (kind == 0) {
         replace_token(s, rng);
-      else
+      } else if (kind == 1) {
+        perturb_number(s, rng);
+      } else {
         mutate_lines(s, rng);
+      }
     } else {
       mutate_bytes(s, t, rng);
     }

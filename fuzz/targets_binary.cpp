@@ -14,6 +14,7 @@
 #include "loopscan/io/png.hpp"
 #include "loopscan/io/vocabulary_file.hpp"
 #include "loopscan/vo/image_file.hpp"
+#include "seed_inputs.hpp"
 
 namespace loopscan::fuzz {
 namespace {
@@ -47,14 +48,6 @@ std::string vocabulary_bytes() {
     v.nodes.push_back(r);
   }
   return bytes_written_by([&](const std::string& p) { io::save_vocabulary(p, v); });
-}
-
-std::string image_bytes(const char* ext, int type) {
-  cv::Mat m(9, 13, type);
-  cv::randu(m, 0, CV_MAT_DEPTH(type) == CV_16U ? 65535 : 255);
-  std::vector<unsigned char> buf;
-  cv::imencode(ext, m, buf);
-  return std::string(buf.begin(), buf.end());
 }
 
 Target binary(const std::string& name, const std::string& file, std::vector<std::string> seeds,

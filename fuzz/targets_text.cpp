@@ -22,78 +22,10 @@
 #include "loopscan/io/sodso.hpp"
 #include "loopscan/io/text_file_writer.hpp"
 #include "loopscan/io/vocabulary_file.hpp"
+#include "seed_inputs.hpp"
 
 namespace loopscan::fuzz {
 namespace {
-
-std::string rotation_row(double yaw, double tx, double ty, double tz) {
-  char buf[256];
-  const double c = std::cos(yaw), s = std::sin(yaw);
-  std::snprintf(buf, sizeof buf, "%.9g 0 %.9g %.9g 0 1 0 %.9g %.9g 0 %.9g %.9g", c, s, tx, ty, -s,
-                c, tz);
-  return buf;
-}
-
-std::string poses_text(bool with_ids, int n) {
-  std::ostringstream s;
-  for (int i = 0; i < n; ++i) {
-    if (with_ids) s << 2 * i << ' ';
-    s << rotation_row(0.01 * i, 0.1 * i, -0.02 * i, 1.3 * i) << '\n';
-  }
-  return s.str();
-}
-
-std::string points_text(int keyframes, int per_keyframe) {
-  std::ostringstream s;
-  for (int k = 0; k < keyframes; ++k) {
-    for (int j = 0; j < per_keyframe; ++j) {
-      s << 2 * k << ' ' << (j % 2 ? -7.5 : 6.25) << ' ' << -0.1 * (j % 9) << ' ' << 1.3 * k + j
-        << ' ' << (13 * j) % 256 << '\n';
-    }
-  }
-  return s.str();
-}
-
-std::string gzip(const std::string& text) {  // TextFileWriter compresses for a ".gz" path
-  return bytes_written_by([&](const std::string& p) {
-    io::TextFileWriter w(p + ".gz");
-    w.write(text);
-    w.commit();
-    std::filesystem::rename(p + ".gz", p);
-  });
-}
-
-std::string matrix_text(int rows, int cols) {
-  std::ostringstream s;
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c) s << (c ? " " : "") << ((r * 31 + c * 7) % 11) * 0.125;
-    s << '\n';
-  }
-  return s.str();
-}
-
-const std::string kCalib =
-    "P0: 718.856 0 607.1928 0 0 718.856 185.2157 0 0 0 1 0\n"
-    "P1: 718.856 0 607.1928 -386.1448 0 718.856 185.2157 0 0 0 1 0\n"
-    "P2: 718.856 0 607.1928 45.38225 0 718.856 185.2157 -0.1130887 0 0 1 0.003779761\n"
-    "P3: 718.856 0 607.1928 -337.2877 0 718.856 185.2157 2.369057 0 0 1 0.004915215\n"
-    "Tr: -0.001857739 -0.9999659 -0.008039975 -0.004784029 -0.006481465 0.008051860 -0.9999466 "
-    "-0.07337429 0.9999773 -0.001805528 -0.006496203 -0.3339968\n";
-
-std::string vocabulary_text() {
-  io::VocabularyData v;
-  v.branching = 3;
-  v.depth = 2;
-  for (int i = 0; i < 12; ++i) {
-    io::VocabularyRecord r;
-    r.parent = i < 3 ? 0 : 1 + (i - 3) / 3;
-    r.leaf = i >= 3;
-    for (int b = 0; b < 32; ++b) r.descriptor[b] = static_cast<std::uint8_t>(i * 37 + b * 11);
-    r.weight = i >= 3 ? 0.25f * (i % 4 + 1) : 0.f;
-    v.nodes.push_back(r);
-  }
-  return bytes_written_by([&](const std::string& p) { io::write_orbvoc_text(p, v); });
-}
 
 Target one_file(const std::string& name, const std::string& file, std::vector<std::string> seeds,
                 std::function<void(const std::string&)> read_file) {
@@ -129,10 +61,7 @@ std::vector<Target> text_targets() {
                        [](const std::string& p) { baselines::read_vocabulary(p); }));
   t.push_back(one_file("score_labels", "pairs.txt", {"0.9 1\n0.75 0\n0.5 1\n0.125 0\n"},
                        [](const std::string& p) { io::read_score_labels(p); }));
-  t.push_back(one_file("camera_yaml", "camera.yaml",
-                       {"%YAML:1.0\nCamera.fx: 707.0912\nCamera.fy: 707.0912\nCamera.cx: 601.8873\n"
-                        "Camera.cy: 183.1104\nCamera.width: 1241\nCamera.height: 376\n"
-                        "Camera.bf: 379.8145\nLeftMatrix: !!opencv-matrix\n   rows: 3\n"},
+  t.push_back(one_file("camera_yaml", "camera.yaml", {camera_yaml()},
                        [](const std::string& p) { io::read_orbslam_stereo(p); }));
   // A describe output (signatures, ids, frames read together); each case mutates one file.
   for (const char* file : {"signatures.txt", "incoming_id_file.txt", "frames.txt"}) {
