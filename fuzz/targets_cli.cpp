@@ -100,7 +100,7 @@ std::vector<Target> cli_targets() {
                });
   Files sequence = {{"calib.txt", kCalib}, {"times.txt", "0\n0.1\n0.2\n0.3\n"}};
   for (int i = 0; i < 4; ++i) {
-    char name[32];
+    char name[64];
     for (int cam = 0; cam < 2; ++cam) {
       std::snprintf(name, sizeof name, "image_%d/%06d.png", cam, i);
       sequence[name] = image_bytes(".png", CV_8UC1, 96, 40);

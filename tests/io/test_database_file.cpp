@@ -150,5 +150,29 @@ TEST_F(DatabaseFile, WrongVersionMagicAndParametersHaveClearErrors) {
   EXPECT_THROW(io::load_database(path("missing.db")), io::InputError);
 }
 
+// The spectral key is stored as uint16 pairs inside the payload's floats: a ring whose
+// normalised DC term is large (one ring holding all of a half, equal in every sector) gives key
+// bits that read as a float beyond 1e30 or as NaN. Such places are valid and must add, save
+// and load (only the float part of a payload is checked for finite values).
+TEST_F(DatabaseFile, ScanContextPlacesWithLargeSpectralKeysRoundTrip) {
+  Database db;
+  Signature s = Signature::Zero(1, 2400);
+  for (int sector = 0; sector < 60; ++sector) {
+    s(0, sector * 20 + 1) = 3.0;         // structure: ring 1 only, DC = sqrt(60) after norming
+    s(0, 1200 + sector * 20 + 1) = 1.0;  // intensity likewise
+  }
+  ASSERT_NO_THROW(db.add({0, 1}, {s}));
+  std::vector<float> payload(static_cast<std::size_t>(db.payload_floats()));
+  db.stored_payload(0, payload.data());
+  bool key_reads_as_huge = false;
+  for (std::size_t i = 2400; i < payload.size(); ++i)
+    key_reads_as_huge |= !(std::abs(payload[i]) <= 1e30f);
+  EXPECT_TRUE(key_reads_as_huge) << "the case no longer exercises the packed key";
+  io::save_database(db, path("k.db"));
+  const Database back = io::load_database(path("k.db"));
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back.query({s}, 1).front().place, (PlaceRef{0, 1}));
+}
+
 }  // namespace
 }  // namespace loopscan

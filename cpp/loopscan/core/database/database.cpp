@@ -67,7 +67,7 @@ void Database::add(const PlaceRef& place, const PlaceDescriptor& descriptor,
 
 void Database::add_stored(const PlaceRef& place, const float* payload, const Eigen::Matrix3f& frame,
                           const std::optional<Pose3x4>& T_cam_world) {
-  require_finite_values(payload, static_cast<std::size_t>(store_->payload_floats()),
+  require_finite_values(payload, static_cast<std::size_t>(store_->value_floats()),
                         "Database::add_stored");
   require_finite_frame_and_pose(frame, T_cam_world, "Database::add");
   store_->append(payload);

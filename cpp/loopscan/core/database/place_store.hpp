@@ -25,6 +25,9 @@ class PlaceStore {
 
   // The stored form of a place (what encode writes and persistence saves).
   int payload_floats() const { return payload_floats_; }
+  // Its leading floats that are float values (the scoring record); any rest holds packed
+  // integers (Scan Context's uint16 spectral key), whose bit patterns may read as NaN.
+  int value_floats() const { return value_floats_; }
   // Keeps a place's stored form; by default the whole payload is the scoring record.
   virtual void append(const float* payload) { arena_.append(payload); }
   virtual void stored(std::size_t i, float* out) const {
@@ -56,9 +59,12 @@ class PlaceStore {
 
  protected:
   PlaceStore(std::size_t payload_floats, std::size_t record_floats)
-      : payload_floats_(static_cast<int>(payload_floats)), arena_(record_floats) {}
+      : payload_floats_(static_cast<int>(payload_floats)),
+        value_floats_(static_cast<int>(record_floats)),
+        arena_(record_floats) {}
   explicit PlaceStore(std::size_t payload_floats) : PlaceStore(payload_floats, payload_floats) {}
   int payload_floats_;
+  int value_floats_;
   PayloadArena arena_;
 };
 
