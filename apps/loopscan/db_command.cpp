@@ -176,7 +176,11 @@ void add_db_command(CLI::App& app) {
       ->check(finite_in(0, 1e6))
       ->capture_default_str();
   build->add_option("--out", b->out, "database file")->required();
-  build->callback([b] { with_output_file(b->out, [&] { run_build(*b); }); });
+  build->callback([b] {
+    BuildArgs args = *b;
+    const auto is_database = [](const std::string& p) { return starts_with_bytes(p, "LOOPSCDB"); };
+    with_output_file(args.out, is_database, [&] { run_build(args); });
+  });
 
   auto q = std::make_shared<QueryArgs>();
   CLI::App* query = db->add_subcommand("query", "Query a database with a described sequence");

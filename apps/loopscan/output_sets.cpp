@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -51,7 +52,9 @@ void refuse_inputs_inside(const CLI::App& cmd, const std::string& out) {
   if (ec || !fs::is_directory(target)) return;  // a new directory holds nothing yet
   for (const CLI::Option* option : cmd.get_options()) {
     if (option->check_lname("out")) continue;
-    for (const std::string& value : option->results()) {
+    for (std::string value : option->results()) {
+      const auto colon = value.find(':');  // `--trajectory kitti:FILE`
+      if (!fs::exists(value, ec) && colon != std::string::npos) value = value.substr(colon + 1);
       if (value.empty() || !fs::exists(value, ec)) continue;
       const fs::path input = fs::weakly_canonical(value, ec);
       if (ec) continue;
@@ -63,6 +66,13 @@ void refuse_inputs_inside(const CLI::App& cmd, const std::string& out) {
       }
     }
   }
+}
+
+bool starts_with_bytes(const std::string& path, const std::string& magic) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(magic.size(), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  return in.gcount() == static_cast<std::streamsize>(magic.size()) && head == magic;
 }
 
 std::string shown(const std::string& path) {

@@ -1,6 +1,7 @@
 #pragma once
 // Every writing command's outputs go through one io::OutputSet: written into a staging
 // directory and swapped in at the end, under a lock (see io/output_set.hpp).
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -37,13 +38,27 @@ void with_output_dir(std::string& out, Body body) {
   set.commit();
 }
 
-// The same lock and leftover cleaning for a command whose output is one file.
+// The same lock and leftover cleaning for a command whose output is one file: `body()` runs
+// with `out` set to the resolved target (links followed). An existing file is only replaced
+// when `is_ours(path)` recognises it (e.g. by its magic).
 template <typename Body>
-void with_output_file(const std::string& out, Body body) {
-  io::OutputSet set(out, io::OutputSet::Kind::File);
-  body();
+void with_output_file(std::string& out, const std::function<bool(const std::string&)>& is_ours,
+                      Body body) {
+  io::OutputSet set(out, io::OutputSet::Kind::File, command_line(), is_ours);
+  const std::string given = out;
+  out = set.path();
+  try {
+    body();
+  } catch (...) {
+    out = given;
+    throw;
+  }
+  out = given;
   set.commit();
 }
+
+// True when the file at `path` starts with `magic` (for with_output_file's `is_ours`).
+bool starts_with_bytes(const std::string& path, const std::string& magic);
 
 // Refuses (std::invalid_argument) when an input named on the command line lies inside the
 // output directory `out`, which the new set would replace as a whole.

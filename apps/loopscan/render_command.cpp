@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "loopscan/io/atomic_file.hpp"
+#include "loopscan/io/limits.hpp"
 #include "loopscan/io/png.hpp"
 #include "loopscan/io/vo_files.hpp"
 #include "loopscan/sim/renderer.hpp"
@@ -45,6 +46,12 @@ void run_render(const RenderArgs& a) {
   sim::Conditions conditions = sim::Conditions::for_season(sim::parse_season(a.season));
   conditions.session_seed = a.session != 0 ? a.session : a.seed;
   const sim::StereoCamera camera = sim::scaled_camera(load_camera(a.calib), a.scale);
+  if (std::int64_t(camera.width) * camera.height > io::limits::kMaxImagePixels) {
+    throw std::invalid_argument("--scale " + std::to_string(a.scale) + " makes " +
+                                std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                                " images; at most " + std::to_string(io::limits::kMaxImagePixels) +
+                                " pixels");
+  }
   const int total = static_cast<int>(t.trajectory.T_world_cam.size());
   const int first = std::clamp(a.first, 0, total);
   const int count = a.frames < 0 ? total - first : std::min(a.frames, total - first);

@@ -1,6 +1,7 @@
 // loopscan vocab train: a vocabulary tree from the ORB features of KITTI-layout sequences, in our
 // binary format (or ORBvoc.txt's text format with --text).
 #include <cstdio>
+#include <fstream>
 
 #include "commands.hpp"
 #include "loopscan/baselines/describe_images.hpp"
@@ -71,7 +72,17 @@ void add_vocab_command(CLI::App& app) {
       ->capture_default_str();
   train->add_option("--seed", a->seed, "clustering seed")->capture_default_str();
   train->add_flag("--text", a->text, "write ORBvoc.txt's text format instead of binary");
-  train->callback([a] { with_output_file(a->out, [&] { run_vocab_train(*a); }); });
+  train->callback([a] {
+    VocabArgs args = *a;
+    // A vocabulary in our binary format or ORBvoc.txt's (`k L scoring weighting` first).
+    const auto is_vocabulary = [](const std::string& p) {
+      std::ifstream in(p);
+      int k = 0, depth = 0, scoring = 0, weighting = 0;
+      return starts_with_bytes(p, "LSVOCAB1") ||
+             static_cast<bool>(in >> k >> depth >> scoring >> weighting);
+    };
+    with_output_file(args.out, is_vocabulary, [&] { run_vocab_train(args); });
+  });
 }
 
 }  // namespace loopscan::cli

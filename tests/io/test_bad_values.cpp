@@ -80,6 +80,18 @@ TEST_F(BadValues, CalibrationAndTimesMustBeFinite) {
   std::ofstream(seq / "times.txt") << "0\ninf\n";
   const std::string msg = error_of([&] { open_kitti_sequence(seq.string()); });
   EXPECT_TRUE(has(msg, "times.txt:2: expected one timestamp")) << msg;
+  std::ofstream(seq / "times.txt") << "1403636579763555584\n1403636579813555456\n";  // EuRoC ns
+  EXPECT_TRUE(has(error_of([&] { open_kitti_sequence(seq.string()); }), "image_0/000000.png"));
+  // Calibrations a rectified pair cannot have: a P1 focal length unlike P0's (which made a
+  // 5e8 m baseline), baselines beyond 100 m, focal lengths beyond 1e5 px.
+  const std::string p0 = "P0: 700 0 600 0 0 700 180 0 0 0 1 0\n";
+  const auto calib = [](auto p) { read_kitti_calib(p); };
+  expect_bad(calib, p0 + "P1: 7e-07 0 600 -386 0 700 180 0 0 0 1 0\n", 0,
+             "the focal length of P0 in P1");
+  expect_bad(calib, p0 + "P1: 700 0 600 -7e5 0 700 180 0 0 0 1 0\n", 0, "baseline in (0, 100] m");
+  expect_bad(calib, "P0: 7e6 0 600 0 0 7e6 180 0 0 0 1 0\nP1: 7e6 0 600 -1 0 7e6 180 0 0 0 1 0\n",
+             0, "focal lengths in [1, 1e5] px");
+  EXPECT_NEAR(read_kitti_calib(file("ok.txt", p0 + p1)).baseline_m, 380.0 / 700.0, 1e-12);
 }
 
 TEST_F(BadValues, BowVectorsAndVocabulariesMustHoldFiniteWeightsAndBoundedWords) {

@@ -33,11 +33,14 @@ TEST_F(CameraSettings, MissingKeysAndBadValuesNameFileAndLine) {
   expect_bad(read, body, 0, "`Camera.bf: <value>`");
   expect_bad(read, body + "Camera.bf: 3x\n", 12, "Camera.bf: a number");
   expect_bad(read, body + "Camera.bf: nan\n", 12, "Camera.bf");
-  expect_bad(read, body + "Camera.bf: -380\n", 12, "in [1e-09, 1e+06]");
+  expect_bad(read, body + "Camera.bf: -380\n", 12, "in [0.001, 1e+07]");
   expect_bad(read, body + "Camera.bf: 1e308\n", 12, "Camera.bf");
   std::string wide = body;
   wide.replace(wide.find("1241"), 4, "65536");
   expect_bad(read, wide + "Camera.bf: 380\n", 7, "Camera.width: a number in [1, 32768]");
+  std::string huge = body;
+  huge.replace(huge.find("1241"), 4, "32768").replace(huge.find("376"), 3, "32768");
+  expect_bad(read, huge + "Camera.bf: 380\n", 0, "at most 67108864 pixels");
   std::string half = body;
   half.replace(half.find("376"), 3, "375.5");
   expect_bad(read, half + "Camera.bf: 380\n", 8, "whole number");

@@ -52,7 +52,7 @@ TEST_F(OutputSetTest, CommitMakesTheWholeSetAppearAndReplacesTheOldOne) {
     set.commit();
   }
   EXPECT_EQ(files_of(target()), (std::set<std::string>{".loopscan", "a.txt", "sub", "sub/b.txt"}));
-  EXPECT_EQ(slurp(target() + "/.loopscan"), "run A\n");
+  EXPECT_EQ(slurp(target() + "/.loopscan"), "run A\na.txt\nsub\nsub/b.txt\n");  // command, entries
   EXPECT_TRUE(beside_target().empty());  // no staging directory, no lock file
   {
     OutputSet set(target() + "/", OutputSet::Kind::Directory, "run B");  // trailing slash
@@ -122,11 +122,11 @@ TEST_F(OutputSetTest, UserFilesAreNeverReplaced) {
 TEST_F(OutputSetTest, LeftoversOfKilledRunsAreClearedAndAnInterruptedSwapRolledBack) {
   { OutputSet(target(), OutputSet::Kind::Directory, "old").commit(); }
   put((dir_ / ".out.staging.99999").string(), "half.txt", "partial");  // killed while writing
-  put(dir_.string(), "out.tmp.4242", "partial");                       // killed atomic write
   put(dir_.string(), ".out.lock", "4242");                             // its lock (released)
   put(dir_.string(), ".other.staging.1", "not ours");                  // another target's
+  put((dir_ / "out.tmp.2024").string(), "backup.txt", "a user's");     // not a leftover of ours
   { OutputSet(target(), OutputSet::Kind::Directory, "new").commit(); }
-  EXPECT_EQ(beside_target(), (std::set<std::string>{".other.staging.1"}));
+  EXPECT_EQ(beside_target(), (std::set<std::string>{".other.staging.1", "out.tmp.2024"}));
   EXPECT_EQ(slurp(target() + "/.loopscan"), "new\n");
   // A swap cut between its two renames (no RENAME_EXCHANGE): only `.out.old.<pid>` exists.
   fs::rename(target(), dir_ / ".out.old.777");
@@ -159,6 +159,61 @@ TEST_F(OutputSetTest, ASymlinkedOutputIsFollowed) {
   }
   EXPECT_TRUE(fs::is_symlink(dir_ / "link"));
   EXPECT_EQ(slurp((real / "x.txt").string()), "via link");
+}
+
+// Another command's output nested in a set (describe --out exp/sc inside simulate's exp), or
+// files added by hand: replacing the set would delete them, so the command is refused.
+TEST_F(OutputSetTest, EntriesTheSetDoesNotListAreNeverDeleted) {
+  {
+    OutputSet set(target(), OutputSet::Kind::Directory, "simulate");
+    put(set.path(), "gt.txt", "1");
+    set.commit();
+  }
+  { OutputSet(target() + "/sc", OutputSet::Kind::Directory, "describe").commit(); }
+  const std::string msg = error_of([&] { OutputSet(target(), OutputSet::Kind::Directory); });
+  EXPECT_TRUE(has(msg, "it also holds sc, sc/.loopscan")) << msg;
+  EXPECT_TRUE(fs::exists(target() + "/sc/.loopscan"));
+  fs::remove_all(target() + "/sc");
+  // Written while the new set was being made: the swap is refused, the old set stays whole.
+  OutputSet set(target(), OutputSet::Kind::Directory, "simulate again");
+  put(target(), "notes.txt", "written meanwhile");
+  EXPECT_TRUE(has(error_of([&] { set.commit(); }), "notes.txt"));
+  EXPECT_EQ(slurp(target() + "/notes.txt"), "written meanwhile");
+}
+
+TEST_F(OutputSetTest, LinksAreFollowedEvenToTargetsNotCreatedYet) {
+  fs::create_directory_symlink(dir_ / "later", dir_ / "dangling");  // `later` does not exist
+  {
+    OutputSet set((dir_ / "dangling").string(), OutputSet::Kind::Directory);
+    put(set.path(), "x.txt", "1");
+    set.commit();
+  }
+  EXPECT_TRUE(fs::is_symlink(dir_ / "dangling"));
+  EXPECT_TRUE(fs::exists(dir_ / "later/x.txt"));
+  // File targets too: the file the link names is replaced, the link stays.
+  put(dir_.string(), "map.db", "old");
+  fs::create_symlink("map.db", dir_ / "current.db");
+  {
+    OutputSet set((dir_ / "current.db").string(), OutputSet::Kind::File);
+    EXPECT_EQ(set.path(), (dir_ / "map.db").string());
+    set.commit();
+  }
+  EXPECT_TRUE(fs::is_symlink(dir_ / "current.db"));
+}
+
+TEST_F(OutputSetTest, FileTargetsMustBeFilesOfTheirKind) {
+  EXPECT_TRUE(has(error_of([&] { OutputSet((dir_ / "map.db/").string(), OutputSet::Kind::File); }),
+                  "not one ending in '/'"));
+  put(dir_.string(), "notes.txt", "my notes");
+  const auto is_db = [](const std::string& p) {
+    return test::IoFixture::slurp(p).rfind("LOOPSCDB", 0) == 0;
+  };
+  const std::string msg =
+      error_of([&] { OutputSet((dir_ / "notes.txt").string(), OutputSet::Kind::File, "", is_db); });
+  EXPECT_TRUE(has(msg, "a file of the kind this command writes")) << msg;
+  put(dir_.string(), "map.db", "LOOPSCDB...");
+  OutputSet ok((dir_ / "map.db").string(), OutputSet::Kind::File, "", is_db);
+  ok.commit();
 }
 
 }  // namespace

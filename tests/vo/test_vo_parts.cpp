@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -26,6 +27,26 @@ cv::Mat random_texture(int w, int h, unsigned seed) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) m.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(gray(rng));
   return m;
+}
+
+// A calibration with an absurd baseline asks for disparities of 1e18 px: the search range is
+// clamped to the image width (no int overflow), and StereoVo refuses such a camera outright.
+TEST(StereoMatch, AbsurdDisparityRangesAreClampedAndAbsurdCamerasRefused) {
+  const cv::Mat left = random_texture(200, 40, 3);
+  cv::Mat right(left.size(), CV_8UC1, cv::Scalar(0));
+  left.colRange(17, left.cols).copyTo(right.colRange(0, left.cols - 17));
+  for (const vo::StereoSearch s : {vo::StereoSearch{1, 1e18, 2, 0.85, true},
+                                   vo::StereoSearch{1, std::numeric_limits<double>::infinity()},
+                                   vo::StereoSearch{std::nan(""), 80}}) {
+    const double d = vo::match_disparity(left, right, 150, 20, s);
+    EXPECT_TRUE(std::isnan(d) || std::abs(d - 17) < 0.25) << d;
+  }
+  vo::StereoIntrinsics wide;
+  wide.baseline_m = 5e8;  // P1: fx 7e-7, -fx b = -386: what a mutated calib.txt implied
+  EXPECT_THROW(vo::StereoVo{wide}, std::invalid_argument);
+  vo::StereoIntrinsics tiny_focal;
+  tiny_focal.fx = 1e-300;
+  EXPECT_THROW(vo::StereoVo{tiny_focal}, std::invalid_argument);
 }
 
 TEST(StereoMatch, RecoversAKnownShiftAndRejectsFlatImages) {

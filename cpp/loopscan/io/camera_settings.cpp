@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <utility>
 
@@ -79,15 +80,20 @@ class FlatYaml {
 
 StereoSettings read_orbslam_stereo(const std::string& path) {
   const FlatYaml yaml(path);
-  constexpr double kTiny = 1e-9, kHuge = 1e6;
+  // The bounds of the KITTI calibration reader: focal lengths 1..1e5 px, baselines up to 100 m.
   StereoSettings s;
-  s.fx = yaml.number("Camera.fx", kTiny, kHuge);
-  s.fy = yaml.number("Camera.fy", kTiny, kHuge);
-  s.cx = yaml.number("Camera.cx", -kHuge, kHuge);
-  s.cy = yaml.number("Camera.cy", -kHuge, kHuge);
+  s.fx = yaml.number("Camera.fx", 1, 1e5);
+  s.fy = yaml.number("Camera.fy", 1, 1e5);
+  s.cx = yaml.number("Camera.cx", -1e5, 1e5);
+  s.cy = yaml.number("Camera.cy", -1e5, 1e5);
   s.width = yaml.whole("Camera.width", 1, limits::kMaxImageSide);
   s.height = yaml.whole("Camera.height", 1, limits::kMaxImageSide);
-  s.bf = yaml.number("Camera.bf", kTiny, kHuge);
+  if (std::int64_t(s.width) * s.height > limits::kMaxImagePixels) {
+    throw InputError(path, 0,
+                     "an image of at most " + std::to_string(limits::kMaxImagePixels) +
+                         " pixels (Camera.width x Camera.height)");
+  }
+  s.bf = yaml.number("Camera.bf", 1e-3, 1e7);
   return s;
 }
 

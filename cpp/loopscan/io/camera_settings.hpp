@@ -15,8 +15,8 @@ struct StereoSettings {
 // Reads Camera.fx, fy, cx, cy, width, height, bf from top-level `key: value` lines ('%' and
 // '#' start comments; indented lines and other keys are ignored). Errors are InputErrors
 // naming the file, the line and what was expected: a missing file or key, a value that is not
-// a finite number, a focal length, bf or size outside (0, 1e6] (sizes: whole pixels up to
-// io::limits::kMaxImageSide), a principal point beyond +-1e6 px.
+// a finite number, focal lengths outside [1, 1e5] px, bf outside [1e-3, 1e7] px m, a principal
+// point beyond +-1e5 px, sizes not whole or beyond io::limits (per side and in pixels).
 StereoSettings read_orbslam_stereo(const std::string& path);
 
 }  // namespace loopscan::io

@@ -1,5 +1,6 @@
 #include "loopscan/io/kitti_sequence.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -38,10 +39,21 @@ KittiCalib read_kitti_calib(const std::string& path) {
       throw InputError(path, 0, std::string("a line starting with P") + char('0' + k) + ":");
   }
   KittiCalib c{p[0][0], p[0][5], p[0][2], p[0][6], 0};
-  if (!(c.fx > 0) || !(c.fy > 0)) throw InputError(path, 0, "positive focal lengths in P0");
+  if (!(c.fx >= 1 && c.fx <= 1e5) || !(c.fy >= 1 && c.fy <= 1e5)) {
+    throw InputError(path, 0, "focal lengths in [1, 1e5] px in P0");
+  }
+  if (!(std::abs(c.cx) <= 1e5 && std::abs(c.cy) <= 1e5)) {
+    throw InputError(path, 0, "a principal point within +-1e5 px in P0");
+  }
+  // Rectified pairs share the intrinsics; P1 differs from P0 only by -fx * baseline.
+  if (!(std::abs(p[1][0] - c.fx) <= 1e-6 * c.fx)) {
+    throw InputError(path, 0, "the focal length of P0 in P1 (a rectified pair)");
+  }
   c.baseline_m = -p[1][3] / p[1][0];
-  if (!(c.baseline_m > 0)) {
-    throw InputError(path, 0, "P1 with a negative fourth value (-fx * baseline, right camera)");
+  if (!(c.baseline_m > 0 && c.baseline_m <= 100)) {
+    throw InputError(path, 0,
+                     "P1's fourth value -fx * baseline with a baseline in (0, 100] m (right "
+                     "camera)");
   }
   return c;
 }
@@ -59,7 +71,7 @@ KittiSequence open_kitti_sequence(const std::string& dir) {
     if (is_blank(line)) continue;
     Tokenizer tokens(line);
     double t;
-    parse_exactly(reader, tokens, &t, 1, "one timestamp in seconds", 1e12);
+    parse_exactly(reader, tokens, &t, 1, "one timestamp in seconds", 1e300);
     if (!s.times.empty() && !(t > s.times.back())) {
       throw InputError(reader.path(), reader.line_number(), "timestamps in increasing order");
     }

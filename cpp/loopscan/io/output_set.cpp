@@ -5,13 +5,17 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <set>
 #include <stdexcept>
 #include <system_error>
+#include <vector>
 
 #include <loopscan/io/atomic_file.hpp>
 #include <loopscan/io/errors.hpp>
@@ -36,6 +40,58 @@ bool all_digits(const std::string& s, std::size_t from) {
   throw std::runtime_error("cannot write '" + target + "': " + what + ": " + std::strerror(errno));
 }
 
+// Follows symbolic links at `p` (relative ones from the link's directory), also to a target
+// that does not exist yet.
+fs::path resolve_links(fs::path p) {
+  std::error_code ec;
+  for (int hops = 0; hops < 40 && fs::is_symlink(p, ec); ++hops) {
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec) break;
+    p = (to.is_absolute() ? to : p.parent_path() / to).lexically_normal();
+  }
+  return p;
+}
+
+// Every entry below `dir` (directories too), relative, sorted; the marker file left out.
+std::vector<std::string> entries_below(const fs::path& dir) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::end(it);
+       it.increment(ec)) {
+    const std::string rel = fs::relative(it->path(), dir, ec).generic_string();
+    if (rel != OutputSet::marker_name()) out.push_back(rel);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Entries of the set at `dir` that its marker does not list: another command's output nested
+// in it, or a user's files. Empty when the marker lists none (a set from before the lists).
+std::vector<std::string> foreign_entries(const fs::path& dir) {
+  std::ifstream in(dir / OutputSet::marker_name());
+  std::string line;
+  std::getline(in, line);  // the command line
+  std::set<std::string> listed;
+  while (std::getline(in, line)) listed.insert(line);
+  std::vector<std::string> foreign;
+  if (listed.empty()) return foreign;
+  for (const std::string& e : entries_below(dir)) {
+    if (!listed.count(e)) foreign.push_back(e);
+  }
+  return foreign;
+}
+
+[[noreturn]] void refuse_foreign(const std::string& target,
+                                 const std::vector<std::string>& foreign) {
+  std::string names;
+  for (std::size_t i = 0; i < foreign.size() && i < 3; ++i) names += (i ? ", " : "") + foreign[i];
+  if (foreign.size() > 3) names += " and " + std::to_string(foreign.size() - 3) + " more";
+  throw InputError(target, 0,
+                   "only the files of the output set it holds (it also holds " + names +
+                       ", written by another command or by hand, which replacing the set would "
+                       "delete: move them elsewhere or choose another output directory)");
+}
+
 // Swaps two directory entries atomically; false when the file system cannot.
 bool exchange(const std::string& a, const std::string& b) {
   // Tests take the fallback path on purpose (file systems without it: older NFS, some FUSE).
@@ -47,23 +103,38 @@ bool exchange(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-OutputSet::OutputSet(const std::string& target, Kind kind, const std::string& marker)
-    : marker_(marker), kind_(kind) {
+OutputSet::OutputSet(const std::string& target, Kind kind, const std::string& marker,
+                     std::function<bool(const std::string&)> is_ours)
+    : marker_(marker), kind_(kind), is_ours_(std::move(is_ours)) {
   fs::path p = fs::path(target).lexically_normal();
-  if (p.has_relative_path() && p.filename().empty()) p = p.parent_path();  // "out/" -> "out"
+  if (p.has_relative_path() && p.filename().empty()) {  // "out/" -> "out"
+    if (kind == Kind::File) throw InputError(target, 0, "a file path (not one ending in '/')");
+    p = p.parent_path();
+  }
   const std::string name = p.filename().string();
   if (target.empty() || name.empty() || name == "." || name == "..") {
     throw InputError(target, 0, "an output path that names a directory or file (not '.' or '..')");
   }
-  std::error_code ec;
-  if (fs::is_symlink(p, ec)) p = fs::canonical(p, ec);  // replace what the link points to
+  p = resolve_links(p);  // write what a link points to, even one not created yet
   target_ = p.string();
   name_ = p.filename().string();
   parent_ = p.has_parent_path() ? p.parent_path().string() : ".";
+  std::error_code ec;
   fs::create_directories(parent_, ec);
   if (ec) {
-    throw std::runtime_error("cannot write '" + target_ + "': cannot create directory '" + parent_ +
-                             "': " + ec.message());
+    throw InputError(
+        target_, 0,
+        "a directory that can be created (cannot create '" + parent_ + "': " + ec.message() + ")");
+  }
+  struct stat parent_st {};
+  struct stat target_st {};
+  if (::stat(parent_.c_str(), &parent_st) == 0 && ::stat(target_.c_str(), &target_st) == 0 &&
+      parent_st.st_dev != target_st.st_dev) {
+    throw InputError(target_, 0,
+                     "an output on the same file system as its parent directory (it is a mount "
+                     "point, where a new set cannot be swapped in: use a directory inside it, "
+                     "e.g. " +
+                         target_ + "/run)");
   }
   lock_path_ = parent_ + "/." + name_ + ".lock";
   acquire_lock();
@@ -99,8 +170,19 @@ void OutputSet::acquire_lock() {
   // replaced (or removed) is retried on the file now at the path.
   for (;;) {
     lock_fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (lock_fd_ < 0) fail_system(target_, "cannot create the lock file '" + lock_path_ + "'");
+    if (lock_fd_ < 0) {
+      throw InputError(target_, 0,
+                       "a writable parent directory (cannot create '" + lock_path_ +
+                           "': " + std::strerror(errno) + ")");
+    }
     if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+      if (errno != EWOULDBLOCK) {
+        const int err = errno;
+        ::close(lock_fd_);
+        lock_fd_ = -1;
+        errno = err;
+        fail_system(target_, "cannot lock '" + lock_path_ + "'");
+      }
       char owner[32] = {0};
       const ssize_t n = ::pread(lock_fd_, owner, sizeof owner - 1, 0);
       ::close(lock_fd_);
@@ -135,10 +217,13 @@ void OutputSet::clear_stale() {
     if (starts_with(n, old) && all_digits(n, old.size()) && !fs::exists(target_)) {
       fs::rename(e.path(), target_, ec);  // a swap cut between its two renames: roll back
     } else if ((starts_with(n, staging) && all_digits(n, staging.size())) ||
-               (starts_with(n, old) && all_digits(n, old.size())) ||
-               (starts_with(n, temp) && all_digits(n, temp.size()))) {
+               (starts_with(n, old) && all_digits(n, old.size()))) {
       std::error_code ignored;
       fs::remove_all(e.path(), ignored);
+    } else if (kind_ == Kind::File && starts_with(n, temp) && all_digits(n, temp.size()) &&
+               e.is_regular_file(ec)) {
+      std::error_code ignored;  // an AtomicWriter's temporary of a killed run
+      fs::remove(e.path(), ignored);
     }
   }
 }
@@ -149,10 +234,20 @@ void OutputSet::check_replaceable() const {
   if (!fs::exists(st)) return;
   if (kind_ == Kind::File) {
     if (fs::is_directory(st)) throw InputError(target_, 0, "a file path (it is a directory)");
+    if (is_ours_ && fs::file_size(target_, ec) > 0 && !is_ours_(target_)) {
+      throw InputError(target_, 0,
+                       "a file of the kind this command writes, to replace (it holds something "
+                       "else: remove it or choose another output file)");
+    }
     return;
   }
   if (!fs::is_directory(st)) throw InputError(target_, 0, "a directory (it is a file)");
-  if (fs::exists(fs::path(target_) / marker_name()) || fs::is_empty(target_, ec)) return;
+  if (fs::exists(fs::path(target_) / marker_name())) {
+    const std::vector<std::string> foreign = foreign_entries(target_);
+    if (!foreign.empty()) refuse_foreign(target_, foreign);
+    return;
+  }
+  if (fs::is_empty(target_, ec)) return;
   throw InputError(target_, 0,
                    "an empty directory or one written by loopscan (it holds other files and no " +
                        std::string(marker_name()) +
@@ -162,8 +257,16 @@ void OutputSet::check_replaceable() const {
 void OutputSet::commit() {
   if (committed_) throw std::logic_error("OutputSet::commit called twice for '" + target_ + "'");
   if (kind_ == Kind::Directory) {
-    write_file_atomic(write_path_ + "/" + marker_name(), marker_ + "\n");
+    std::string listing = marker_ + "\n";  // the command line, then every entry of the set
+    for (const std::string& e : entries_below(write_path_)) listing += e + "\n";
+    write_file_atomic(write_path_ + "/" + marker_name(), listing);
     std::error_code ec;
+    // Something written into the old set meanwhile (a command on a directory inside it):
+    // swapping would delete it.
+    if (fs::exists(fs::path(target_) / marker_name(), ec)) {
+      const std::vector<std::string> foreign = foreign_entries(target_);
+      if (!foreign.empty()) refuse_foreign(target_, foreign);
+    }
     if (!fs::exists(target_, ec)) {
       if (::rename(write_path_.c_str(), target_.c_str()) != 0) {
         fail_system(target_, "cannot move the new output set into place");

@@ -1,6 +1,7 @@
 #pragma once
 // A command's outputs as one set: readers see the complete old set or the complete new one,
 // never a mix, whenever the writer is killed.
+#include <functional>
 #include <string>
 
 namespace loopscan::io {
@@ -13,18 +14,22 @@ namespace loopscan::io {
 //
 // While the set exists it holds an exclusive lock (`<parent>/.<name>.lock`, flock): a second
 // command aimed at the same target is refused at once with an InputError. Under the lock, the
-// leftovers of killed runs (staging directories, `<name>.tmp.<pid>` files) are removed and an
-// interrupted swap is rolled back. An existing directory is only replaced when it is empty or
-// carries the marker a committed set leaves (`.loopscan`), so a mistyped `--out` never deletes
-// a user's files.
+// leftovers of killed runs (staging directories, a File target's `<name>.tmp.<pid>` files) are
+// removed and an interrupted swap is rolled back. An existing directory is only replaced when
+// it is empty or carries the marker a committed set leaves (`.loopscan`: the command line and
+// every entry of the set) and holds nothing else, so a mistyped `--out` never deletes a user's
+// files or another command's output nested inside.
 class OutputSet {
  public:
   enum class Kind { Directory, File };
 
   // Throws InputError when the target is locked by another command, is a directory not
-  // written by loopscan, or (File) is a directory; std::runtime_error when the file system
-  // refuses (no permission, ...). `marker` is stored in the set's `.loopscan` file.
-  OutputSet(const std::string& target, Kind kind, const std::string& marker = "");
+  // written by loopscan or holding entries its set does not list, is a mount point, or (File)
+  // is a directory or an existing file `is_ours` does not recognise; std::runtime_error when
+  // the file system refuses later. `marker` (the command line) starts the set's `.loopscan`
+  // file, which then lists every entry of the set.
+  OutputSet(const std::string& target, Kind kind, const std::string& marker = "",
+            std::function<bool(const std::string&)> is_ours = {});
   ~OutputSet();  // without commit(): the staging directory is removed, the old set stays
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
@@ -48,6 +53,7 @@ class OutputSet {
 
   std::string target_, parent_, name_, lock_path_, write_path_, marker_;
   Kind kind_;
+  std::function<bool(const std::string&)> is_ours_;
   int lock_fd_ = -1;
   bool committed_ = false;
 };

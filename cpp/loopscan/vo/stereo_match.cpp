@@ -67,8 +67,12 @@ double search(const cv::Mat& ref, const cv::Mat& other, int x, int y, int direct
 double match_disparity(const cv::Mat& left, const cv::Mat& right, int x, int y,
                        const StereoSearch& s) {
   CV_Assert(left.type() == CV_8UC1 && right.type() == CV_8UC1 && left.size() == right.size());
-  const int d_lo = static_cast<int>(std::floor(s.min_disparity));
-  const int d_hi = static_cast<int>(std::ceil(s.max_disparity));
+  // No disparity is larger than the image is wide: the search range is clamped to it before
+  // the conversion (a huge bf / depth ratio would overflow int).
+  const double widest = left.cols;
+  if (!(s.min_disparity <= s.max_disparity)) return kNaN;  // also NaN bounds
+  const int d_lo = static_cast<int>(std::floor(std::clamp(s.min_disparity, 0.0, widest)));
+  const int d_hi = static_cast<int>(std::ceil(std::clamp(s.max_disparity, 0.0, widest)));
   const double d = search(left, right, x, y, -1, d_lo, d_hi, s.half_window, s.uniqueness);
   if (!std::isfinite(d) || !s.left_right_check) return d;
   const int xr = static_cast<int>(std::lround(x - d));

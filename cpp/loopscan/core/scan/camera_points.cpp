@@ -55,28 +55,32 @@ LOOPSCAN_INLINE void compute_keys(const KeyArgs& a) {
     VI key;
     V score;
     if (a.filter == ScanFilter::Cartesian) {
-      // In range the shifted coordinates are positive: truncation is floor.
-      const VI xi = __builtin_convertvector((x + a.range) * a.step_xz, VI);
-      const VI yi = __builtin_convertvector((y + a.range) * a.step_y, VI);
-      const VI zi = __builtin_convertvector((z + a.range) * a.step_xz, VI);
       // Points outside the cube (and NaN) get the key no cell has: the selection drops them.
+      // Their lanes are zeroed before the conversion, which only in-range values may reach.
       const VI inside = (x > -a.range) & (x < a.range) & (y > -a.range) & (y < a.range) &
                         (z > -a.range) & (z < a.range);
+      const V zero{};
+      // In range the shifted coordinates are positive: truncation is floor.
+      const VI xi = __builtin_convertvector(inside ? (x + a.range) * a.step_xz : zero, VI);
+      const VI yi = __builtin_convertvector(inside ? (y + a.range) * a.step_y : zero, VI);
+      const VI zi = __builtin_convertvector(inside ? (z + a.range) * a.step_xz : zero, VI);
       key = inside ? xi + yi * a.nx + zi * (a.nx * a.ny) : VI{} + a.outside_key;
       score = y;
     } else {
       const V xz2 = x * x + z * z;
       V xz;
       for (int l = 0; l < kV; ++l) xz[l] = __builtin_sqrtf(xz2[l]);
-      const V va = (approx_atan2(z, x) + 3.1415927f) * a.inv;
-      const V ve = (approx_atan2(y, xz) + 1.5707963f) * a.inv;
+      score = xz2 + y * y;
+      // NaN / inf lanes go to the exact path, which drops them; zeroed here before conversion.
+      const VI finite = score < __builtin_inff();
+      const V zero{};
+      const V va = finite ? (approx_atan2(z, x) + 3.1415927f) * a.inv : zero;
+      const V ve = finite ? (approx_atan2(y, xz) + 1.5707963f) * a.inv : zero;
       const VI ia = __builtin_convertvector(va, VI), ie = __builtin_convertvector(ve, VI);
       const V fa = va - __builtin_convertvector(ia, V), fe = ve - __builtin_convertvector(ie, V);
       constexpr float kMargin = 1e-4f;  // in bins, far above the ~2e-5 bin error of the float path
       const VI near = (fa < kMargin) | (fa > 1.f - kMargin) | (fe < kMargin) | (fe > 1.f - kMargin);
       key = ia + ie * a.azimuth_bins;
-      score = xz2 + y * y;
-      const VI finite = score < __builtin_inff();  // NaN / inf lanes: the exact path drops them
       for (int l = 0; l < kV; ++l) a.check[i + l] = near[l] != 0 || finite[l] == 0;
     }
     for (int l = 0; l < kV; ++l) {
