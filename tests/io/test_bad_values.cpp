@@ -12,8 +12,10 @@
 #include "loopscan/io/database_file.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/kitti_sequence.hpp"
+#include "loopscan/io/limits.hpp"
 #include "loopscan/io/line_reader.hpp"
 #include "loopscan/io/matrix_text.hpp"
+#include "loopscan/io/parse_numbers.hpp"
 #include "loopscan/io/sodso.hpp"
 #include "loopscan/io/vocabulary_file.hpp"
 #include "support/io_fixture.hpp"
@@ -37,6 +39,18 @@ TEST_F(BadValues, TextLinesAreBoundedEvenWithoutALineBreak) {
   std::string wide;
   for (int i = 0; i < 200000; ++i) wide += "1.5 ";
   EXPECT_EQ(read_matrix_text(file("wide.txt", wide + "\n")).cols(), 200000);
+}
+
+// A small gzip file can expand to billions of valid records: readers count them. (The bound
+// itself, 10^8, is too many records to write here; its check is exercised directly.)
+TEST_F(BadValues, RecordCountsAreBounded) {
+  LineReader reader(file("r.txt", "1\n"));
+  std::string_view line;
+  reader.next(line);
+  EXPECT_NO_THROW(check_record_count(reader, limits::kMaxRecords, "points"));
+  const std::string msg =
+      error_of([&] { check_record_count(reader, limits::kMaxRecords + 1, "points"); });
+  EXPECT_TRUE(has(msg, "r.txt:1: expected at most 100000000 points in one file")) << msg;
 }
 
 TEST_F(BadValues, MatrixValuesMustBeFiniteAndWithinTheBound) {

@@ -133,6 +133,18 @@ TEST(Png, DamagedUnsupportedOrOversizedFilesAreClearErrors) {
   EXPECT_NE(e.find("32768"), std::string::npos) << e;
   EXPECT_NE(error_of(test::png_announcing(0, 5)).find("0x5"), std::string::npos);
   EXPECT_EQ(decode(test::png_announcing(1, 1)).pixels.size(), 1u);  // the patch itself is valid
+  // A 257 MiB file (sparse: nothing is written) is refused before it is read.
+  const fs::path big = temp_file("big.png");
+  std::ofstream(big, std::ios::binary) << test::png_announcing(1, 1);
+  fs::resize_file(big, std::uintmax_t{257} << 20);
+  std::string big_error;
+  try {
+    io::read_png_gray(big.string());
+  } catch (const io::InputError& err) {
+    big_error = err.what();
+  }
+  fs::remove(big);
+  EXPECT_NE(big_error.find("at most 256 MiB"), std::string::npos) << big_error;
   EXPECT_NE(error_of("GIF89a").find("PNG"), std::string::npos);
   EXPECT_NE(error_of("").find("PNG"), std::string::npos);
 }

@@ -81,6 +81,9 @@ std::string error_of(const std::string& bytes, const std::string& suffix) {
 }
 
 TEST(ImageFile, HugeDamagedOrMissingImagesAreInputErrorsNamingTheFile) {
+  // 16384 x 8192 is within the side limit but beyond 2^26 pixels.
+  EXPECT_NE(error_of(test::png_announcing(16384, 8192), ".png").find("at most 67108864 pixels"),
+            std::string::npos);
   // A 65535 x 65535 PNG header (OpenCV would throw an assertion naming no file).
   EXPECT_NE(error_of(test::png_announcing(65535, 65535), ".png").find("65535x65535"),
             std::string::npos);
@@ -88,7 +91,14 @@ TEST(ImageFile, HugeDamagedOrMissingImagesAreInputErrorsNamingTheFile) {
   std::string sof("\xFF\xD8\xFF\xC0\x00\x11\x08\xEA\x60\xEA\x60\x03", 12);
   sof += std::string(15, '\x01');
   EXPECT_NE(error_of(sof, ".jpg").find("60000x60000"), std::string::npos);
-  EXPECT_NE(error_of("not an image at all", ".jpg").find("readable image"), std::string::npos);
+  EXPECT_NE(error_of("not an image at all", ".jpg").find("a PNG or JPEG image"), std::string::npos);
+  EXPECT_NE(error_of("BM6\0\0\0", ".bmp").find("a PNG or JPEG image"), std::string::npos);
+  // The frame header found behind 100 KB of an APP segment (EXIF, ICC): still checked.
+  std::string app("\xFF\xD8\xFF\xE1\xFF\xFF", 6);
+  app += std::string(0xFFFF - 2, '\0');
+  app += std::string("\xFF\xE2\xFF\xFF", 4) + std::string(0xFFFF - 2, '\0');
+  EXPECT_NE(error_of(app + sof.substr(2), ".jpg").find("60000x60000"), std::string::npos);
+  EXPECT_NE(error_of(app + "\xFF\xDA\x00\x08", ".jpg").find("frame header"), std::string::npos);
   EXPECT_NE(error_of("\x89PNG\r\n\x1a\n", ".png").find("truncated"), std::string::npos);
   EXPECT_THROW(vo::read_gray_image("/nonexistent/x.png"), io::InputError);
 }

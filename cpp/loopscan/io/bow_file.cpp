@@ -43,6 +43,7 @@ std::vector<SparseVector> read_bow_vectors(const std::string& path) {
       v.emplace_back(word, weight);
     }
     out.push_back(std::move(v));
+    check_record_count(reader, out.size(), "places");
   }
   return out;
 }

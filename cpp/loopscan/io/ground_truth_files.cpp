@@ -25,6 +25,7 @@ std::vector<double> read_fixed_width(const std::string& path, std::size_t n,
     const std::size_t first = values.size();
     values.resize(first + n);
     parse_exactly(reader, tokens, values.data() + first, n, expected, limits::kMaxCoordinateM);
+    check_record_count(reader, values.size() / n, "ground-truth lines");
   }
   return values;
 }

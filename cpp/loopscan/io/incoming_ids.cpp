@@ -22,6 +22,7 @@ std::vector<int> read_incoming_ids(const std::string& path) {
       throw InputError(path, reader.line_number(), "one non-negative integer keyframe id");
     }
     ids.push_back(id);
+    check_record_count(reader, ids.size(), "keyframe ids");
   }
   return ids;
 }

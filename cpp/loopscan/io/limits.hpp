@@ -18,6 +18,12 @@ constexpr int kMaxImageSide = 32768;
 constexpr std::int64_t kMaxImagePixels = std::int64_t{1} << 26;
 constexpr std::size_t kMaxImageFileBytes = std::size_t{256} << 20;
 
+// Records in one text file (points, poses, ids, pairs, BoW places, vocabulary nodes): a few
+// gigabytes once parsed, ~20x a KITTI-length SO-DSO export (4.5 million points). Numbers in
+// one matrix file (signatures): 2^28 doubles, 2 GB.
+constexpr std::size_t kMaxRecords = 100'000'000;
+constexpr std::size_t kMaxMatrixValues = std::size_t{1} << 28;
+
 // Bag-of-words: word ids (ORBvoc.txt has 10^6 words; k 10, L 7 would have 10^7).
 constexpr int kMaxWordId = (1 << 24) - 1;
 

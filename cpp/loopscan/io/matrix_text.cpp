@@ -33,6 +33,11 @@ Eigen::MatrixXd read_matrix_text(const std::string& path, std::size_t expected_c
     }
     if (n != cols) throw InputError(path, reader.line_number(), expected);
     ++rows;
+    if (values.size() > limits::kMaxMatrixValues) {
+      throw InputError(
+          path, reader.line_number(),
+          "at most " + std::to_string(limits::kMaxMatrixValues) + " numbers in one matrix file");
+    }
   }
   Eigen::MatrixXd m(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
   if (rows > 0) {

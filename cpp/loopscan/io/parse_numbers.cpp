@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include <loopscan/io/errors.hpp>
+#include <loopscan/io/limits.hpp>
 #include <loopscan/io/line_reader.hpp>
 
 namespace loopscan::io {
@@ -81,6 +82,14 @@ bool Tokenizer::at_end() const {
 bool parse_number(std::string_view token, double& out) { return parse_token(token, out); }
 bool parse_number(std::string_view token, float& out) { return parse_token(token, out); }
 bool parse_number(std::string_view token, int& out) { return parse_token(token, out); }
+
+void check_record_count(const LineReader& reader, std::size_t count, const char* what) {
+  if (count > limits::kMaxRecords) {
+    throw InputError(
+        reader.path(), reader.line_number(),
+        "at most " + std::to_string(limits::kMaxRecords) + " " + what + " in one file");
+  }
+}
 
 std::string bound_text(double max_abs) {
   char buf[32];

@@ -48,6 +48,10 @@ std::size_t parse_numbers(const LineReader& reader, std::string_view line, std::
 void parse_exactly(const LineReader& reader, Tokenizer& tokens, double* out, std::size_t n,
                    std::string_view expected, double max_abs);
 
+// Throws InputError(reader.path(), reader.line_number(), "at most N <what> in one file") once
+// `count` passes io::limits::kMaxRecords.
+void check_record_count(const LineReader& reader, std::size_t count, const char* what);
+
 // "+-1e+09" for the messages.
 std::string bound_text(double max_abs);
 

@@ -18,6 +18,7 @@ std::vector<eval::ScoreLabel> read_score_labels(const std::string& path) {
     parse_exactly(reader, tokens, v, 2, kExpected, 1e300);
     if (v[1] != 0.0 && v[1] != 1.0) throw InputError(path, reader.line_number(), kExpected);
     pairs.push_back({v[0], static_cast<int>(v[1])});
+    check_record_count(reader, pairs.size(), "pairs");
   }
   return pairs;
 }

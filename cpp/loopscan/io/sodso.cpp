@@ -45,6 +45,7 @@ std::vector<KeyframePose> read_sodso_poses(const std::string& path) {
     }
     pose.T_cam_world = Eigen::Map<const Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(v);
     poses.push_back(pose);
+    check_record_count(reader, poses.size(), "poses");
   }
   return poses;
 }
@@ -88,6 +89,7 @@ std::vector<IdPoint> read_sodso_points(const std::string& path, PointReadStats* 
     point.p_world = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
     point.intensity = intensity;
     points.push_back(point);
+    check_record_count(reader, points.size(), "points");
   }
   if (stats != nullptr) *stats = counts;
   return points;

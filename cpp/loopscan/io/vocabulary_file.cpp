@@ -64,7 +64,8 @@ VocabularyData read_orbvoc_text(const std::string& path) {
     std::string_view tok;
     VocabularyRecord n;
     int leaf = 0;
-    if (!t.next(tok) || !parse_number(tok, n.parent)) throw InputError(path, reader.line_number(), node_line);
+    if (!t.next(tok) || !parse_number(tok, n.parent))
+      throw InputError(path, reader.line_number(), node_line);
     if (!t.next(tok) || !parse_number(tok, leaf) || (leaf != 0 && leaf != 1))
       throw InputError(path, reader.line_number(), "is_leaf 0 or 1 after the parent id");
     for (std::uint8_t& byte : n.descriptor) {
@@ -79,6 +80,7 @@ VocabularyData read_orbvoc_text(const std::string& path) {
     const std::string problem = node_problem(v, n, v.nodes.size() + 1);
     if (!problem.empty()) throw InputError(path, reader.line_number(), problem);
     v.nodes.push_back(n);
+    check_record_count(reader, v.nodes.size(), "vocabulary nodes");
   }
   if (v.nodes.empty()) throw InputError(path, reader.line_number() + 1, node_line);
   return v;

@@ -1,7 +1,8 @@
 #pragma once
 // Reading one 8-bit gray image for the image-side stages (VO, baselines): PNG through
 // loopscan's own decoder (io::read_png_gray: colour converted, sizes bounded, errors name the
-// file), JPEG and the other formats through OpenCV after a size check of the header.
+// file), JPEG through OpenCV after a size check of its frame header; other formats are refused
+// (their size could not be checked before decoding).
 #include <string>
 
 #include <opencv2/core.hpp>
