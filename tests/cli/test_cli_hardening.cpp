@@ -34,14 +34,18 @@ TEST(CliHardening, OptionValuesOutsideTheirRangeAreRefused) {
     EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
     EXPECT_TRUE(has(r, bad.substr(1, bad.find(' ', 1) - 1))) << r.output;  // names the option
   }
-  EXPECT_EQ(run("db query --db x --signatures y --k 0 --out " + (d / "q").string()).code, 2);
-  EXPECT_EQ(run("db query --db x --signatures y --uniqueness nan --out " + (d / "q").string()).code,
-            2);
-  EXPECT_EQ(run("vocab train --kitti x --k 1000 --out " + (d / "v").string()).code, 2);
-  EXPECT_EQ(run("render --trajectory builtin:short --scale 0 --out " + (d / "r").string()).code, 2);
-  EXPECT_EQ(run("simulate --trajectory builtin:short --drift nan --out " + (d / "s").string()).code,
-            2);
-  EXPECT_FALSE(fs::exists(d / "o") || fs::exists(d / "q") || fs::exists(d / "r"));
+  // Checked before any file is opened: the message names the option (the files do not exist).
+  for (const auto& [args, option] : std::vector<std::pair<std::string, std::string>>{
+           {"db query --db x --signatures y --k 0", "--k"},
+           {"db query --db x --signatures y --uniqueness nan", "--uniqueness"},
+           {"vocab train --kitti x --k 1000", "--k"},
+           {"render --trajectory builtin:short --scale 0", "--scale"},
+           {"simulate --trajectory builtin:short --drift nan", "--drift"}}) {
+    const CliResult r = run(args + " --out " + (d / "q").string());
+    EXPECT_EQ(r.code, 2) << args;
+    EXPECT_TRUE(has(r, option + ": expected a finite number in [")) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(d / "o") || fs::exists(d / "q"));
   // In range: the same run works and describes on many threads identically.
   ASSERT_EQ(run(describe_args(d) + " --threads 3 --range 45" + out).code, 0);
 }
@@ -93,11 +97,16 @@ TEST(CliHardening, ValuesThatParseButMakeNoSenseAreRefused) {
   ASSERT_EQ(run(describe_args(d) + " --out " + (d / "sc").string()).code, 0);
   // frames.txt must hold rotations, signatures finite numbers.
   const std::vector<std::string> frames = read_lines(d / "sc/frames.txt");
-  write(d / "sc/frames.txt", "nan 0 0 0 1 0 0 0 1\n");
-  CliResult r = run("evaluate --method sc --signatures " + (d / "sc").string() + " --gt " +
-                    (d / "poses.txt").string() + " --out " + (d / "e").string());
-  EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(has(r, "frames.txt:1: expected")) << r.output;
+  CliResult r;
+  for (const char* frame : {"nan 0 0 0 1 0 0 0 1", "2 0 0 0 1 0 0 0 1", "1 0 0 0 1 0 0 0 0"}) {
+    std::string text = std::string(frame) + "\n";
+    for (std::size_t i = 1; i < frames.size(); ++i) text += frames[i] + "\n";
+    write(d / "sc/frames.txt", text);
+    r = run("evaluate --method sc --signatures " + (d / "sc").string() + " --gt " +
+            (d / "poses.txt").string() + " --out " + (d / "e").string());
+    EXPECT_EQ(r.code, 2) << frame;
+    EXPECT_TRUE(has(r, "frames.txt:1: expected")) << r.output;
+  }
   // Labels of `pairs` are 0 or 1; the error names the format.
   for (const char* label : {"nan", "2", "0.5", "1e308"}) {
     write(d / "pairs.txt", std::string("0.9 1\n0.4 ") + label + "\n");
