@@ -62,13 +62,4 @@ void validate(const DelightConfig& c) {
        "intensity_bins must be in [1, 65536]");
 }
 
-void require_finite(const Cloud& scan, const char* who) {
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan[i].p.allFinite() || !std::isfinite(scan[i].intensity)) {
-      throw std::invalid_argument(std::string(who) + ": scan point " + std::to_string(i) +
-                                  " has a NaN or infinite value");
-    }
-  }
-}
-
 }  // namespace loopscan

@@ -45,10 +45,6 @@ void validate(const ScanContextConfig& config);
 void validate(const M2dpConfig& config);
 void validate(const DelightConfig& config);
 
-// Descriptors need every coordinate and gray value finite (the imitation guarantees it);
-// throws std::invalid_argument naming `who` and the first offending point otherwise.
-void require_finite(const Cloud& scan, const char* who);
-
 // The filter each descriptor uses in the paper.
 inline ScanFilter filter_for(Method method) {
   return method == Method::ScanContext ? ScanFilter::Cartesian : ScanFilter::Polar;

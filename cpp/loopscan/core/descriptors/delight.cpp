@@ -18,7 +18,11 @@ int delight_region(const Eigen::Vector3d& a, const DelightConfig& config) {
 Signature delight_of_aligned(const Cloud& aligned, const DelightConfig& config) {
   Signature hist = Signature::Zero(16, config.intensity_bins);
   for (const PointI& q : aligned) {
-    const int bin = std::clamp(static_cast<int>(q.intensity), 0, config.intensity_bins - 1);
+    // std::clamp(int(g), 0, bins - 1) for every finite g, and NaN -> 0, inf -> bins - 1
+    // without the undefined conversion.
+    const float g = q.intensity;
+    const int bin =
+        g >= 0 ? (g < config.intensity_bins ? static_cast<int>(g) : config.intensity_bins - 1) : 0;
     hist(delight_region(q.p, config), bin) += 1;
   }
   return hist;
@@ -26,7 +30,6 @@ Signature delight_of_aligned(const Cloud& aligned, const DelightConfig& config) 
 
 Signature delight_signature(const Cloud& scan, const DelightConfig& config) {
   validate(config);
-  require_finite(scan, "delight_signature");
   return delight_of_aligned(pca_align(scan, config.mode), config);
 }
 

@@ -15,7 +15,9 @@ struct DescriptorConfig {
 
 // Signature of one imitated (filtered, camera-frame) scan. `frame` (optional) receives the
 // descriptor's axes in the camera frame for Scan Context (PCA basis, rows = axes), the
-// identity for the others; the database turns sector shifts into yaw with it.
+// identity for the others; the database turns sector shifts into yaw with it. Throws
+// std::invalid_argument on an invalid config or a scan with a NaN or infinite coordinate (a
+// NaN gray value gives a NaN signature, which the database refuses).
 Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config,
                    Eigen::Matrix3d* frame = nullptr);
 

@@ -159,7 +159,6 @@ M2dpMatrices m2dp_matrices(const Cloud& aligned, const M2dpConfig& config) {
 
 Signature m2dp_signature(const Cloud& scan, const M2dpConfig& config) {
   validate(config);
-  require_finite(scan, "m2dp_signature");
   const int planes = config.plane_azimuths * config.plane_elevations;
   const int half = planes + config.azimuth_bins * config.radial_bins;
   Signature sig = Signature::Zero(4, 2 * half);

@@ -2,8 +2,20 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <stdexcept>
+
 namespace loopscan {
 namespace {
+
+// Every descriptor starts here, so this is where a scan with a NaN, infinite or absurdly large
+// coordinate is refused: they make the centroid or the scatter non-finite (one O(1) check
+// instead of another pass over the points).
+void require_finite(const Eigen::Vector3d& centroid, const Eigen::Matrix3d& scatter) {
+  if (!centroid.allFinite() || !scatter.allFinite()) {
+    throw std::invalid_argument(
+        "describe: the scan has a NaN or infinite coordinate (or one too large to square)");
+  }
+}
 
 Cloud pca_align_reference(const Cloud& cloud, Eigen::Matrix3d* to_aligned) {
   const Eigen::Index n = static_cast<Eigen::Index>(cloud.size());
@@ -23,6 +35,7 @@ Cloud pca_align_reference(const Cloud& cloud, Eigen::Matrix3d* to_aligned) {
     centered(i, 2) = cloud[i].p(2) - mz;
   }
   const Eigen::MatrixXd scatter = centered.transpose() * centered;
+  require_finite({mx, my, mz}, scatter);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(scatter);
   if (to_aligned) *to_aligned = solver.eigenvectors().transpose();
   const Eigen::VectorXd a0 = centered * solver.eigenvectors().col(0);
@@ -42,6 +55,7 @@ Cloud pca_align_default(const Cloud& cloud, Eigen::Matrix3d* frame) {
     const Eigen::Vector3d d = q.p - centroid;
     scatter.noalias() += d * d.transpose();
   }
+  require_finite(centroid, scatter);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
   Eigen::Matrix3d basis = solver.eigenvectors();
   if (basis.determinant() < 0) basis.col(0) = -basis.col(0);
