@@ -52,12 +52,8 @@ std::vector<IdPoint> world_points(const FinishedKeyframe& kf) {
 
 StereoVo::StereoVo(const StereoIntrinsics& camera, const VoConfig& config)
     : camera_(camera), config_(config), px_scale_(pixel_scale(camera)) {
-  if (camera.width <= 0 || camera.height <= 0 || !(camera.fx >= 1 && camera.fx <= 1e5) ||
-      !(camera.fy >= 1 && camera.fy <= 1e5) || !(camera.baseline_m > 0 && camera.baseline_m <= 100) ||
-      !(std::abs(camera.cx) <= 1e5 && std::abs(camera.cy) <= 1e5))
-    throw std::invalid_argument(
-        "StereoVo: camera needs a positive size, focal lengths in [1, 1e5] px, a principal point "
-        "within +-1e5 px and a baseline in (0, 100] m");
+  if (!camera.plausible())
+    throw std::invalid_argument("StereoVo: implausible camera (see StereoIntrinsics::plausible)");
   if (config.window_keyframes < 2 || config.fixed_keyframes < 1)
     throw std::invalid_argument("StereoVo: the window needs >= 2 keyframes, >= 1 of them fixed");
 }

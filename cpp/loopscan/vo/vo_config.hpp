@@ -8,6 +8,13 @@ struct StereoIntrinsics {
   double fx = 718.856, fy = 718.856, cx = 607.1928, cy = 185.2157, baseline_m = 0.5371657;
   int width = 1241, height = 376;
   double bf() const { return fx * baseline_m; }
+  // A positive size, focal lengths in [1, 1e5] px, a principal point within +-1e5 px and a
+  // baseline in (0, 100] m (what io::read_kitti_calib accepts).
+  bool plausible() const {
+    return width > 0 && height > 0 && fx >= 1 && fx <= 1e5 && fy >= 1 && fy <= 1e5 &&
+           cx >= -1e5 && cx <= 1e5 && cy >= -1e5 && cy <= 1e5 && baseline_m > 0 &&
+           baseline_m <= 100;
+  }
 };
 
 struct VoConfig {
