@@ -70,18 +70,24 @@ const std::string kCalib =
     "Tr: -0.001857739 -0.9999659 -0.008039975 -0.004784029 -0.006481465 0.008051860 -0.9999466 "
     "-0.07337429 0.9999773 -0.001805528 -0.006496203 -0.3339968\n";
 
-std::string vocabulary_text() {
+io::VocabularyData small_vocabulary(int branching) {
   io::VocabularyData v;
-  v.branching = 3;
+  v.branching = branching;
   v.depth = 2;
-  for (int i = 0; i < 12; ++i) {
+  const int nodes = branching * (branching + 1);  // root's children and theirs (root implicit)
+  for (int i = 0; i < nodes; ++i) {
     io::VocabularyRecord r;
-    r.parent = i < 3 ? 0 : 1 + (i - 3) / 3;
-    r.leaf = i >= 3;
+    r.parent = i < branching ? 0 : 1 + (i - branching) / branching;
+    r.leaf = i >= branching;
     for (int b = 0; b < 32; ++b) r.descriptor[b] = static_cast<std::uint8_t>(i * 37 + b * 11);
-    r.weight = i >= 3 ? 0.25f * (i % 4 + 1) : 0.f;
+    r.weight = r.leaf ? 0.25f * (i % 4 + 1) : 0.f;
     v.nodes.push_back(r);
   }
+  return v;
+}
+
+std::string vocabulary_text() {
+  const io::VocabularyData v = small_vocabulary(3);
   return bytes_written_by([&](const std::string& p) { io::write_orbvoc_text(p, v); });
 }
 

@@ -36,17 +36,7 @@ std::string database_bytes(Method method, int places) {
 }
 
 std::string vocabulary_bytes() {
-  io::VocabularyData v;
-  v.branching = 2;
-  v.depth = 2;
-  for (int i = 0; i < 6; ++i) {
-    io::VocabularyRecord r;
-    r.parent = i < 2 ? 0 : 1 + (i - 2) / 2;
-    r.leaf = i >= 2;
-    for (int b = 0; b < 32; ++b) r.descriptor[b] = static_cast<std::uint8_t>(i * 29 + b);
-    r.weight = r.leaf ? 0.5f : 0.f;
-    v.nodes.push_back(r);
-  }
+  const io::VocabularyData v = small_vocabulary(2);
   return bytes_written_by([&](const std::string& p) { io::save_vocabulary(p, v); });
 }
 
