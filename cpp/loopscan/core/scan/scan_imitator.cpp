@@ -185,4 +185,16 @@ bool ScanImitator::next_scan(const KeyframePose& keyframe, const IdPoint* points
   return true;
 }
 
+void ScanImitator::last_in_range(std::vector<Eigen::Vector3f>& out) const {
+  out.clear();
+  if (config_.mode == Mode::Reference) {
+    out.reserve(in_range_.size());
+    for (const PointI& p : in_range_) out.push_back(p.p.cast<float>());
+  } else {
+    const CameraPoints& c = in_range_fast_;
+    out.reserve(c.size());
+    for (std::size_t i = 0; i < c.size(); ++i) out.emplace_back(c.x[i], c.y[i], c.z[i]);
+  }
+}
+
 }  // namespace loopscan

@@ -33,6 +33,10 @@ class ScanImitator {
   bool next_scan(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
                  bool reset, ScanFilter filter, Cloud& scan, std::size_t* in_range_count = nullptr);
 
+  // The unfiltered in-range points of the last keyframe next_scan gave a scan (camera frame,
+  // single precision): what loop verification aligns.
+  void last_in_range(std::vector<Eigen::Vector3f>& out) const;
+
   // Points left out because a coordinate or the gray value was NaN, infinite or beyond
   // single precision.
   std::size_t unusable_points() const { return unusable_points_; }

@@ -1,0 +1,266 @@
+#include "loopscan/closure/loop_closer.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "loopscan/core/descriptors/describe.hpp"
+
+namespace loopscan::closure {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+Eigen::Isometry3d isometry(const Pose3x4& T) {
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = T.leftCols<3>();
+  out.translation() = T.col(3);
+  return out;
+}
+
+double rotation_angle(const Eigen::Matrix3d& R) {
+  return Eigen::AngleAxisd(R).angle();
+}
+
+}  // namespace
+
+LoopCloserConfig LoopCloserConfig::make(Method method, Mode mode, double range_m) {
+  LoopCloserConfig c;
+  c.recognition = RecognizerConfig::make(method, mode, range_m);
+  return c;
+}
+
+void validate(const LoopCloserConfig& c) {
+  validate(c.cloud);
+  validate(c.verify);
+  validate(c.graph);
+  const ConsistencyConfig& k = c.consistency;
+  if (c.candidates < 1 || c.candidates > 100 || k.required < 1 || k.required > 100 ||
+      k.window < 1 || k.window > 1000 || !(k.max_translation_m > 0) ||
+      !(k.max_rotation_deg > 0) || !std::isfinite(k.max_translation_m) ||
+      !std::isfinite(k.max_rotation_deg) || c.min_keyframes_between_solves < 0) {
+    throw std::invalid_argument(
+        "loop closer config: candidates in [1, 100], consistency required in [1, 100], window in "
+        "[1, 1000], tolerances finite and > 0, min_keyframes_between_solves >= 0");
+  }
+}
+
+LoopCloser::LoopCloser(const LoopCloserConfig& config)
+    : config_(config),
+      imitator_(config.recognition.imitation),
+      db_(config.recognition.database),
+      graph_(config.graph) {
+  validate(config_);
+}
+
+int LoopCloser::add_graph_node(const KeyframePose& keyframe, bool reset) {
+  const Eigen::Isometry3d T_world_cam = isometry(keyframe.T_cam_world).inverse();
+  int node;
+  if (input_poses_.empty() || reset) {
+    node = graph_.add_node(T_world_cam);
+  } else {
+    const Eigen::Isometry3d odometry =
+        isometry(input_poses_.back().T_cam_world) * T_world_cam;  // T_prev_this
+    node = graph_.add_node(T_world_cam, &odometry);
+  }
+  input_poses_.push_back(keyframe);
+  node_of_[keyframe.id] = node;
+  return node;
+}
+
+Eigen::Isometry3d LoopCloser::vo_T_world_cam(int keyframe_id) const {
+  return isometry(input_poses_[std::size_t(node_of_.at(keyframe_id))].T_cam_world).inverse();
+}
+
+std::vector<Loop> LoopCloser::verify(const TargetCloud& query, int keyframe_id,
+                                     const std::vector<Candidate>& candidates) {
+  std::vector<Loop> out;
+  for (const Candidate& c : candidates) {
+    Loop loop = verify_candidate(query, clouds_[c.index], yaw_guesses(c), config_.verify);
+    loop.query = keyframe_id;
+    loop.match = c.place;
+    loop.distance = c.distance;
+    ++times_.verifications;
+    out.push_back(loop);
+    if (loop.verdict == Verdict::Accepted) break;
+  }
+  return out;
+}
+
+// The loop of an earlier keyframe p (to place mp) predicts this one's: T_q_m =
+// T_q_p (odometry) * T_p_mp (its loop) * T_mp_m (the map's odometry).
+bool LoopCloser::consistent(const Verified& earlier, const Loop& loop,
+                            std::size_t place_index) const {
+  const auto map_pose = [&](std::size_t i) { return isometry(*db_.pose(i)).inverse(); };
+  if (!db_.pose(place_index) || !db_.pose(earlier.place_index)) return false;
+  if (db_.place(place_index).session != db_.place(earlier.place_index).session) return false;
+  const Eigen::Isometry3d T_q_p =
+      vo_T_world_cam(loop.query).inverse() * vo_T_world_cam(earlier.loop.query);
+  const Eigen::Isometry3d T_mp_m = map_pose(earlier.place_index).inverse() * map_pose(place_index);
+  const Eigen::Isometry3d predicted = T_q_p * earlier.loop.T_query_match * T_mp_m;
+  const Eigen::Isometry3d diff = predicted.inverse() * loop.T_query_match;
+  return diff.translation().norm() <= config_.consistency.max_translation_m &&
+         rotation_angle(diff.rotation()) <= config_.consistency.max_rotation_deg * M_PI / 180.0;
+}
+
+// Keeps the verified loop among the recent ones; returns the loops this confirms (itself and
+// the earlier ones it agrees with), or nothing while too few agree.
+std::vector<Loop> LoopCloser::confirm(const Loop& loop, std::size_t place_index) {
+  while (!recent_.empty() &&
+         described_ - recent_.front().described_at >= config_.consistency.window) {
+    recent_.pop_front();
+  }
+  std::vector<Verified*> agreeing;
+  for (Verified& v : recent_) {
+    if (consistent(v, loop, place_index)) agreeing.push_back(&v);
+  }
+  recent_.push_back({loop, place_index, described_, false});
+  std::vector<Loop> confirmed;
+  if (int(agreeing.size()) + 1 < config_.consistency.required) return confirmed;
+  agreeing.push_back(&recent_.back());
+  for (Verified* v : agreeing) {
+    if (v->in_graph) continue;
+    v->in_graph = true;
+    confirmed.push_back(v->loop);
+  }
+  return confirmed;
+}
+
+KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
+                                         std::size_t n_points, bool reset) {
+  KeyframeClosure out;
+  out.keyframe = keyframe.id;
+  ++times_.keyframes;
+  if (node_of_.count(keyframe.id)) {
+    throw std::invalid_argument("loop closer: keyframe id " + std::to_string(keyframe.id) +
+                                " given twice");
+  }
+  // 1. Imitate the scan (the graph gets a node for every keyframe, scan or not).
+  auto t0 = Clock::now();
+  Cloud scan;
+  const bool has_scan = imitator_.next_scan(keyframe, points, n_points, reset,
+                                            filter_for(config_.recognition.method), scan);
+  add_graph_node(keyframe, reset);
+  if (has_scan) {
+    imitator_.last_in_range(raw_);
+  }
+  times_.scan += ms_since(t0);
+  if (!has_scan) return out;
+  // 2. Describe it: signature and the cloud verification aligns.
+  t0 = Clock::now();
+  PlaceDescriptor place;
+  place.signature = describe(config_.recognition.method, scan, config_.recognition.descriptors,
+                             &place.frame);
+  const TargetCloud target(voxel_cloud(raw_, config_.cloud), config_.normals);
+  times_.describe += ms_since(t0);
+  out.described = true;
+  ++described_;
+  ++times_.described;
+  // 3. Query the map.
+  t0 = Clock::now();
+  out.candidates = db_.query(place, config_.candidates, config_.recognition.query);
+  times_.query += ms_since(t0);
+  // 4. Verify the candidates, 5. confirm by consistency.
+  t0 = Clock::now();
+  if (!out.candidates.empty()) {
+    out.verified = verify(target, keyframe.id, out.candidates);
+    Loop& last = out.verified.back();
+    if (last.verdict == Verdict::Accepted) {
+      const std::size_t index = out.candidates[out.verified.size() - 1].index;
+      out.accepted = confirm(last, index);
+      if (out.accepted.empty()) last.verdict = Verdict::Pending;
+    }
+  }
+  times_.verify += ms_since(t0);
+  // 6. Join the map.
+  db_.add({config_.recognition.session, keyframe.id}, place, keyframe.T_cam_world);
+  clouds_.push_back(to_place_cloud(target));
+  // 7. Loop edges, and a solve when the revisit is new (or enough keyframes passed).
+  t0 = Clock::now();
+  for (Loop& loop : out.accepted) {
+    const int a = node_of_.at(loop.query), b = node_of_.at(loop.match.keyframe);
+    if (described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
+      const bool kept = graph_.add_loop(a, b, loop.T_query_match, &out.solve);
+      last_solve_at_ = described_;
+      ++times_.solves;
+      if (!kept) loop.verdict = Verdict::Inconsistent;
+    } else {
+      graph_.add_loop_unsolved(a, b, loop.T_query_match);
+      unsolved_loops_ = true;
+    }
+  }
+  if (unsolved_loops_ && described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
+    out.solve = graph_.optimise();
+    last_solve_at_ = described_;
+    unsolved_loops_ = false;
+    ++times_.solves;
+  }
+  times_.graph += ms_since(t0);
+  for (Loop& v : out.verified) {
+    for (const Loop& a : out.accepted) {
+      if (a.query == v.query && a.match == v.match && a.verdict != Verdict::Inconsistent) {
+        v.verdict = Verdict::Accepted;
+      }
+    }
+    loops_.push_back(v);
+  }
+  for (const Loop& a : out.accepted) {
+    if (a.query == keyframe.id) continue;  // earlier pending loops confirmed now
+    for (Loop& l : loops_) {
+      if (l.query == a.query && l.match == a.match) l.verdict = a.verdict == Verdict::Inconsistent ? Verdict::Inconsistent : Verdict::Accepted;
+    }
+  }
+  return out;
+}
+
+GraphSolve LoopCloser::finish() {
+  GraphSolve s;
+  if (unsolved_loops_) {
+    const auto t0 = Clock::now();
+    s = graph_.optimise();
+    unsolved_loops_ = false;
+    ++times_.solves;
+    times_.graph += ms_since(t0);
+  }
+  return s;
+}
+
+std::vector<KeyframePose> LoopCloser::corrected_poses() const {
+  std::vector<KeyframePose> out;
+  out.reserve(input_poses_.size());
+  for (std::size_t i = 0; i < input_poses_.size(); ++i) {
+    KeyframePose k;
+    k.id = input_poses_[i].id;
+    k.T_cam_world = graph_.pose(int(i)).inverse().matrix().topRows<3>();
+    out.push_back(k);
+  }
+  return out;
+}
+
+std::vector<IdPoint> reexpress_points(const std::vector<IdPoint>& points,
+                                      const std::vector<KeyframePose>& vo_poses,
+                                      const std::vector<KeyframePose>& corrected) {
+  std::unordered_map<int, Eigen::Isometry3d> correction;  // new T_world_cam * old T_cam_world
+  std::unordered_map<int, const KeyframePose*> old;
+  for (const KeyframePose& k : vo_poses) old[k.id] = &k;
+  for (const KeyframePose& k : corrected) {
+    const auto it = old.find(k.id);
+    if (it == old.end()) continue;
+    correction[k.id] = isometry(k.T_cam_world).inverse() * isometry(it->second->T_cam_world);
+  }
+  std::vector<IdPoint> out;
+  out.reserve(points.size());
+  for (const IdPoint& p : points) {
+    const auto it = correction.find(p.id);
+    if (it == correction.end()) continue;
+    IdPoint q = p;
+    q.p_world = it->second * p.p_world;
+    out.push_back(q);
+  }
+  return out;
+}
+
+}  // namespace loopscan::closure

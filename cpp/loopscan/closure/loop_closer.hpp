@@ -1,0 +1,108 @@
+#pragma once
+// Online loop closing on top of place recognition: per keyframe, imitate the scan, describe it,
+// query the map, verify the candidates geometrically, accept the loops that neighbouring
+// keyframes confirm, add the place to the map, and optimise the pose graph when a loop joins.
+#include <deque>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "loopscan/closure/pose_graph.hpp"
+#include "loopscan/closure/verification.hpp"
+#include "loopscan/core/pipeline/recognizer.hpp"
+
+namespace loopscan::closure {
+
+struct ConsistencyConfig {
+  int required = 2;  // verified loops that agree, this one included
+  int window = 4;    // ... among the last `window` described keyframes
+  double max_translation_m = 1.0;
+  double max_rotation_deg = 2.0;
+};
+
+struct LoopCloserConfig {
+  RecognizerConfig recognition = RecognizerConfig::make(Method::ScanContext);
+  int candidates = 3;  // best places verified per keyframe (first that passes wins)
+  CloudConfig cloud;
+  NormalConfig normals;
+  VerifyConfig verify;
+  ConsistencyConfig consistency;
+  PoseGraphConfig graph;
+  // Solve the graph at most every this many keyframes while loops keep coming (the first
+  // loop of a revisit is always solved at once).
+  int min_keyframes_between_solves = 10;
+  static LoopCloserConfig make(Method method, Mode mode = Mode::Default, double range_m = 45.0);
+};
+
+void validate(const LoopCloserConfig& config);
+
+struct StageTimes {  // milliseconds, summed over keyframes
+  double scan = 0, describe = 0, query = 0, verify = 0, graph = 0;
+  int keyframes = 0, described = 0, verifications = 0, solves = 0;
+};
+
+struct KeyframeClosure {
+  int keyframe = 0;
+  bool described = false;
+  std::vector<Candidate> candidates;
+  std::vector<Loop> verified;  // every verification of this keyframe, verdicts included
+  std::vector<Loop> accepted;  // loops that joined the graph now (may include earlier pending)
+  GraphSolve solve;
+};
+
+class LoopCloser {
+ public:
+  explicit LoopCloser(const LoopCloserConfig& config);
+
+  // points: those the VO exported with this keyframe (its world frame); reset: the VO restarted.
+  KeyframeClosure add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
+                               std::size_t n_points, bool reset = false);
+
+  // Solves the graph once more if loops joined since the last solve (end of a run).
+  GraphSolve finish();
+
+  // Corrected world-to-camera pose of every keyframe so far, in input order.
+  std::vector<KeyframePose> corrected_poses() const;
+  const std::vector<Loop>& loops() const { return loops_; }  // every verification, in order
+  const Database& database() const { return db_; }
+  const std::vector<PlaceCloud>& place_clouds() const { return clouds_; }
+  const StageTimes& times() const { return times_; }
+  const LoopCloserConfig& config() const { return config_; }
+
+ private:
+  struct Verified {
+    Loop loop;
+    std::size_t place_index;  // in the database
+    int described_at;         // count of described keyframes when verified
+    bool in_graph;
+  };
+  int add_graph_node(const KeyframePose& keyframe, bool reset);
+  std::vector<Loop> verify(const TargetCloud& query, int keyframe_id,
+                           const std::vector<Candidate>& candidates);
+  std::vector<Loop> confirm(const Loop& loop, std::size_t place_index);
+  bool consistent(const Verified& earlier, const Loop& loop, std::size_t place_index) const;
+  Eigen::Isometry3d vo_T_world_cam(int keyframe_id) const;
+
+  LoopCloserConfig config_;
+  ScanImitator imitator_;
+  Database db_;
+  std::vector<PlaceCloud> clouds_;  // per database place
+  PoseGraph graph_;
+  std::vector<KeyframePose> input_poses_;
+  std::unordered_map<int, int> node_of_;  // keyframe id -> graph node
+  std::deque<Verified> recent_;
+  std::vector<Loop> loops_;
+  Points3f raw_;
+  StageTimes times_;
+  int described_ = 0;
+  int last_solve_at_ = -1000000;
+  bool unsolved_loops_ = false;
+};
+
+// Re-expresses VO points with corrected poses: each point keeps its place in its keyframe's
+// camera frame. Points of keyframes missing from either list are dropped.
+std::vector<IdPoint> reexpress_points(const std::vector<IdPoint>& points,
+                                      const std::vector<KeyframePose>& vo_poses,
+                                      const std::vector<KeyframePose>& corrected_poses);
+
+}  // namespace loopscan::closure

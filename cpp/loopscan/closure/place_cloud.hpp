@@ -1,0 +1,39 @@
+#pragma once
+// The local point cloud every place keeps for geometric verification: its imitated scan (camera
+// frame of its keyframe) reduced to one point per voxel, so that two places can be aligned.
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace loopscan::closure {
+
+using Points3f = std::vector<Eigen::Vector3f>;
+
+struct CloudConfig {
+  double voxel_m = 0.5;      // one point (the centroid) per voxel of this size
+  int max_points = 6000;     // kept evenly along the voxel order beyond this many
+  double max_range_m = 100;  // points farther from the keyframe are dropped
+};
+
+// Throws std::invalid_argument naming the first field out of its range.
+void validate(const CloudConfig& config);
+
+// Deterministic: the output is ordered by voxel (not by input order), so that equal sets of
+// points give equal clouds. Non-finite points are skipped.
+Points3f voxel_downsample(const Points3f& points, double voxel_m);
+
+// voxel_downsample, the range cut and the count cap of `config`.
+Points3f voxel_cloud(const Points3f& scan, const CloudConfig& config = {});
+
+// What a map place keeps: its voxel cloud with the structure points (not on the ground) first,
+// so that overlap can be measured where places differ (every street has a ground).
+struct PlaceCloud {
+  Points3f points;
+  std::size_t structure = 0;  // points[0, structure) are off the ground
+};
+
+// Every `stride`-th point (stride >= 1): the cheap subsets of coarse alignment steps.
+Points3f every_nth(const Points3f& points, std::size_t stride);
+
+}  // namespace loopscan::closure

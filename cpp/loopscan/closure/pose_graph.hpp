@@ -1,0 +1,71 @@
+#pragma once
+// A pose graph over keyframes: one SE(3) node (camera-to-world) per keyframe, odometry edges
+// between consecutive keyframes of a VO run, loop edges from verified loops, solved with Ceres.
+// A loop is kept only when the graph agrees with it: adding it may raise the optimised cost by
+// at most `max_loop_cost` (whitened units, ~chi-square with 6 dof), and after every solve the
+// loop with the largest whitened residual is dropped while it exceeds `max_loop_residual`.
+#include <memory>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace loopscan::closure {
+
+struct PoseGraphConfig {
+  // Odometry standard deviations grow with the distance d between the two keyframes:
+  // sigma = max(min, per_m * d). Loose on purpose: a loop that needs more than this is suspect.
+  double odometry_translation_per_m = 0.03;
+  double odometry_translation_min_m = 0.02;
+  double odometry_rotation_deg_per_m = 0.05;
+  double odometry_rotation_min_deg = 0.05;
+  double loop_translation_m = 0.1;
+  double loop_rotation_deg = 0.5;
+  double max_loop_cost = 40.0;       // chi-square(6) at ~1e-6
+  double max_loop_residual = 6.0;    // whitened norm of one loop's residual
+  int max_iterations = 30;
+};
+
+void validate(const PoseGraphConfig& config);
+
+struct GraphSolve {
+  bool ran = false;
+  int iterations = 0;
+  double cost_before = 0, cost_after = 0;  // 0.5 * sum of squared whitened residuals
+  double milliseconds = 0;
+  int loops_dropped = 0;  // by the residual test during this solve
+};
+
+class PoseGraph {
+ public:
+  explicit PoseGraph(const PoseGraphConfig& config = {});
+  ~PoseGraph();
+  PoseGraph(PoseGraph&&) noexcept;
+  PoseGraph& operator=(PoseGraph&&) noexcept;
+
+  // Appends a node. `odometry`: the VO's T_prev_this from the previous node (nullptr: a new
+  // VO run starts here, the node only gets a weak prior at `initial`).
+  int add_node(const Eigen::Isometry3d& initial_T_world_cam,
+               const Eigen::Isometry3d* odometry_T_prev_this = nullptr);
+
+  // Proposes a loop T_a_b between nodes a and b, solves, and keeps the loop if the graph
+  // agrees (see the header comment); the poses are those of the solve either way.
+  // Returns true when the loop was kept.
+  bool add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve = nullptr);
+
+  // Adds a loop without solving (batch use); call optimise() afterwards.
+  void add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b);
+  GraphSolve optimise();
+
+  std::size_t size() const;
+  Eigen::Isometry3d pose(int node) const;  // current estimate, camera-to-world
+  std::size_t loop_count() const;          // loops currently in the graph
+  // Whitened residual norm of every loop in the graph, at the current estimate.
+  std::vector<double> loop_residuals() const;
+  double cost() const;  // at the current estimate
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace loopscan::closure

@@ -1,0 +1,89 @@
+#include "loopscan/closure/verification.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace loopscan::closure {
+
+const char* to_string(Verdict v) {
+  switch (v) {
+    case Verdict::Accepted: return "accepted";
+    case Verdict::Pending: return "pending";
+    case Verdict::Inconsistent: return "inconsistent";
+    case Verdict::FewPoints: return "few-points";
+    case Verdict::LowOverlap: return "low-overlap";
+    case Verdict::HighResidual: return "high-residual";
+    case Verdict::Degenerate: return "degenerate";
+    case Verdict::TooFar: return "too-far";
+  }
+  return "?";
+}
+
+void validate(const VerifyConfig& c) {
+  validate(c.icp);
+  if (c.min_points < 3 || c.min_points > (1 << 22) || !(c.min_overlap >= 0 && c.min_overlap <= 1) ||
+      !(c.max_rmse_m > 0 && c.max_rmse_m <= 100) ||
+      !(c.min_translation_constraint >= 0 && c.min_translation_constraint <= 1) ||
+      !(c.max_translation_m > 0 && c.max_translation_m <= 1000)) {
+    throw std::invalid_argument(
+        "verify config: min_points in [3, 2^22], min_overlap in [0, 1], max_rmse_m in (0, 100], "
+        "min_translation_constraint in [0, 1], max_translation_m in (0, 1000]");
+  }
+}
+
+Eigen::Isometry3d yaw_rotation(double yaw_rad) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d(0, -1, 0)).toRotationMatrix();
+  return T;
+}
+
+std::vector<double> yaw_guesses(const Candidate& c) {
+  if (std::isfinite(c.yaw_rad)) return {c.yaw_rad, c.yaw_rad + M_PI};
+  return {0.0, M_PI / 2, M_PI, -M_PI / 2};
+}
+
+Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
+                      const std::vector<double>& yaws, const VerifyConfig& config) {
+  validate(config);
+  Loop loop;
+  if (int(query.size()) < config.min_points || int(place.points.size()) < config.min_points ||
+      int(place.structure) < config.min_points / 2 ||
+      int(query.normal_count()) < config.min_points / 2) {
+    loop.verdict = Verdict::FewPoints;
+    return loop;
+  }
+  std::vector<Eigen::Isometry3d> starts;
+  for (double along : {0.0, config.along_track_seed_m, -config.along_track_seed_m}) {
+    for (double yaw : yaws) {
+      Eigen::Isometry3d T = yaw_rotation(yaw);
+      T.translation() = Eigen::Vector3d(0, 0, along);
+      starts.push_back(T);
+    }
+  }
+  IcpResult best;
+  for (std::size_t i = 0; i < starts.size(); ++i) {
+    const IcpResult r =
+        align_point_to_plane(place.points, query, starts[i], config.icp, place.structure);
+    loop.iterations += r.iterations;
+    if (i == 0 || r.overlap > best.overlap) best = r;
+    if (best.overlap >= config.confident_overlap && best.rmse_m <= config.max_rmse_m) break;
+  }
+  loop.T_query_match = best.T_target_source;
+  loop.overlap = best.overlap;
+  loop.rmse_m = best.rmse_m;
+  loop.translation_constraint = best.translation_constraint;
+  if (best.overlap < config.min_overlap) {
+    loop.verdict = Verdict::LowOverlap;
+  } else if (best.rmse_m > config.max_rmse_m) {
+    loop.verdict = Verdict::HighResidual;
+  } else if (best.translation_constraint < config.min_translation_constraint) {
+    loop.verdict = Verdict::Degenerate;
+  } else if (best.T_target_source.translation().norm() > config.max_translation_m) {
+    loop.verdict = Verdict::TooFar;
+  } else {
+    loop.verdict = Verdict::Accepted;
+  }
+  return loop;
+}
+
+}  // namespace loopscan::closure

@@ -1,0 +1,69 @@
+#pragma once
+// Geometric verification of a loop candidate: the map place's cloud is aligned onto the query
+// keyframe's by ICP from each yaw guess, and the best alignment must overlap enough, fit
+// tightly and be constrained in every direction (no corridor, no near-empty scan).
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "loopscan/closure/icp.hpp"
+#include "loopscan/core/database/database.hpp"
+
+namespace loopscan::closure {
+
+enum class Verdict {
+  Accepted,      // verified and consistent: a loop edge
+  Pending,       // verified, waiting for consistent neighbours
+  Inconsistent,  // verified, but its neighbours disagree (or the pose graph does)
+  FewPoints,     // a cloud too small to align
+  LowOverlap,
+  HighResidual,
+  Degenerate,    // geometry leaves a direction unconstrained
+  TooFar,        // the alignment moved the place beyond max_translation_m
+};
+const char* to_string(Verdict v);
+
+struct Loop {
+  int query = 0;  // keyframe id of the query
+  PlaceRef match;
+  // Maps the match's camera frame into the query's: p_query = T_query_match * p_match.
+  Eigen::Isometry3d T_query_match = Eigen::Isometry3d::Identity();
+  double overlap = 0;
+  double rmse_m = 0;
+  int iterations = 0;
+  double translation_constraint = 0;
+  double distance = 0;  // the candidate's descriptor distance
+  Verdict verdict = Verdict::LowOverlap;
+  bool accepted() const { return verdict == Verdict::Accepted; }
+};
+
+struct VerifyConfig {
+  IcpConfig icp;
+  int min_points = 150;  // in each cloud (voxelised)
+  // Structure points of the place (off the ground) within the inlier distance of the query's.
+  double min_overlap = 0.6;
+  // Starts: each yaw guess at the query's position and this far ahead / behind it (a place the
+  // descriptor matched a few keyframes off). The first start that reaches `confident_overlap`
+  // (and passes) ends the search; otherwise the best of all starts is judged.
+  double along_track_seed_m = 4.0;
+  double confident_overlap = 0.85;
+  double max_rmse_m = 0.3;
+  double min_translation_constraint = 0.004;
+  double max_translation_m = 15.0;
+};
+
+void validate(const VerifyConfig& config);
+
+// Initial yaws to try: the candidate's own yaw (Scan Context) and its opposite, or four
+// headings when the method gives none (M2DP, DELIGHT).
+std::vector<double> yaw_guesses(const Candidate& candidate);
+
+// Aligns `place` (the map place's cloud, its camera frame) onto `query` and judges it; the
+// verdict is Accepted when every geometric test passes (consistency is the closer's).
+Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
+                      const std::vector<double>& yaws, const VerifyConfig& config = {});
+
+// Rotation about the camera's up axis (-y), positive to the left: Candidate::yaw_rad's sense.
+Eigen::Isometry3d yaw_rotation(double yaw_rad);
+
+}  // namespace loopscan::closure

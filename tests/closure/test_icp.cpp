@@ -1,0 +1,201 @@
+// ICP and verification against known transforms on simulated street scenes, the oracles of
+// the voxel grid and the nearest-neighbour index, and the failure modes verification refuses.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <tuple>
+
+#include "loopscan/closure/icp.hpp"
+#include "loopscan/closure/verification.hpp"
+#include "scene_points.hpp"
+
+namespace loopscan {
+namespace {
+
+using closure::Points3f;
+
+Eigen::Isometry3d pose(double yaw_deg, double pitch_deg, double roll_deg, Eigen::Vector3d t) {
+  Eigen::Isometry3d T = closure::yaw_rotation(yaw_deg * M_PI / 180);
+  T.linear() = T.linear() *
+               Eigen::AngleAxisd(pitch_deg * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix() *
+               Eigen::AngleAxisd(roll_deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+double rotation_error_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.rotation().transpose() * b.rotation()).angle() * 180 / M_PI;
+}
+
+// Two independent samples of one scene: the target as is, the source seen from T^-1 (so that
+// T_target_source = T), both with 3 cm noise and voxelised.
+std::pair<Points3f, closure::PlaceCloud> two_views(unsigned seed, const Eigen::Isometry3d& T,
+                                                   const test::SceneOptions& o = {}) {
+  const Points3f all = test::street_scene(seed, o);
+  Points3f a, b;
+  for (std::size_t i = 0; i < all.size(); ++i) (i % 2 ? b : a).push_back(all[i]);
+  return {closure::voxel_cloud(test::transformed(a, Eigen::Isometry3d::Identity(), 0.03, seed + 1)),
+          closure::to_place_cloud(closure::TargetCloud(
+              closure::voxel_cloud(test::transformed(b, T.inverse(), 0.03, seed + 2))))};
+}
+
+TEST(Icp, RecoversRandomTransformsWithinTheBasin) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Isometry3d T =
+        pose(20 * u(rng), 2 * u(rng), 2 * u(rng), Eigen::Vector3d(3 * u(rng), 0.3 * u(rng), 3 * u(rng)));
+    const auto [target_points, source] = two_views(100 + trial, T);
+    const closure::TargetCloud target(target_points);
+    // Start from the yaw a descriptor would give, off by up to 5 degrees.
+    const double yaw_guess = std::atan2(-T.linear()(0, 2), T.linear()(2, 2)) + 5 * M_PI / 180 * u(rng);
+    const closure::Loop loop = closure::verify_candidate(target, source, {yaw_guess});
+    SCOPED_TRACE(trial);
+    EXPECT_EQ(loop.verdict, closure::Verdict::Accepted) << closure::to_string(loop.verdict)
+        << " overlap " << loop.overlap << " rmse " << loop.rmse_m << " constraint " << loop.translation_constraint;
+    EXPECT_LT((loop.T_query_match.translation() - T.translation()).norm(), 0.05);
+    EXPECT_LT(rotation_error_deg(loop.T_query_match, T), 0.3);
+  }
+}
+
+TEST(Icp, YawGuessesCoverTheOppositeHeading) {
+  // The descriptor's yaw is off by 180 degrees (a place seen the other way): the second guess
+  // finds it.
+  const Eigen::Isometry3d T = pose(178, 0.5, -0.5, Eigen::Vector3d(1.0, 0.1, -2.0));
+  const auto [target_points, source] = two_views(31, T);
+  const closure::TargetCloud target(target_points);
+  Candidate c;
+  c.yaw_rad = -2 * M_PI / 180;
+  const closure::Loop loop = closure::verify_candidate(target, source, closure::yaw_guesses(c));
+  EXPECT_EQ(loop.verdict, closure::Verdict::Accepted);
+  EXPECT_LT((loop.T_query_match.translation() - T.translation()).norm(), 0.05);
+  EXPECT_LT(rotation_error_deg(loop.T_query_match, T), 0.3);
+}
+
+TEST(Icp, CorridorOfBareFacadesIsRefusedAsDegenerate) {
+  test::SceneOptions corridor;
+  corridor.poles_and_boxes = false;
+  corridor.facade_recesses = false;
+  const Eigen::Isometry3d T = pose(3, 0, 0, Eigen::Vector3d(0.5, 0, 4.0));
+  const auto [target_points, source] = two_views(5, T, corridor);
+  const closure::Loop loop =
+      closure::verify_candidate(closure::TargetCloud(target_points), source, {0.0});
+  EXPECT_EQ(loop.verdict, closure::Verdict::Degenerate) << closure::to_string(loop.verdict)
+      << " constraint " << loop.translation_constraint;
+  // The same street with poles and parked cars is constrained.
+  const auto [t2, s2] = two_views(5, T);
+  const closure::Loop ok = closure::verify_candidate(closure::TargetCloud(t2), s2, {0.0});
+  EXPECT_EQ(ok.verdict, closure::Verdict::Accepted);
+  EXPECT_GT(ok.translation_constraint, 3 * loop.translation_constraint)
+      << ok.translation_constraint << " vs the corridor's " << loop.translation_constraint;
+}
+
+TEST(Icp, NearlyEmptyAndUnrelatedScansAreRefused) {
+  const auto [target_points, source] = two_views(8, Eigen::Isometry3d::Identity());
+  const closure::TargetCloud target(target_points);
+  closure::PlaceCloud few;
+  few.points.assign(source.points.begin(), source.points.begin() + 40);
+  few.structure = 40;
+  EXPECT_EQ(closure::verify_candidate(target, few, {0.0}).verdict, closure::Verdict::FewPoints);
+  EXPECT_EQ(closure::verify_candidate(closure::TargetCloud(Points3f(target_points.begin(),
+                                                                    target_points.begin() + 40)),
+                                      source, {0.0})
+                .verdict,
+            closure::Verdict::FewPoints);
+  // Another street altogether (different poles, cars, facade offsets), from every heading.
+  for (unsigned seed : {9u, 10u, 11u}) {
+    test::SceneOptions other;
+    other.half_width_m = 6.5;
+    const auto [unused, foreign] = two_views(seed, pose(0, 0, 0, Eigen::Vector3d(0, 0, 0)), other);
+    const closure::Loop loop = closure::verify_candidate(target, foreign, {0.0, M_PI / 2, M_PI, -M_PI / 2});
+    EXPECT_NE(loop.verdict, closure::Verdict::Accepted) << seed << " overlap " << loop.overlap
+        << " rmse " << loop.rmse_m;
+  }
+}
+
+TEST(Icp, ScoreMatchesBruteForceNearestNeighbours) {
+  const Eigen::Isometry3d T = pose(4, 1, 0, Eigen::Vector3d(0.4, 0.0, 0.7));
+  const auto [target_points, source] = two_views(12, T);
+  const closure::TargetCloud target(target_points);
+  closure::IcpConfig config;
+  const closure::IcpResult r = closure::score_alignment(source.points, target, T, config);
+  int inliers = 0;
+  double sum = 0;
+  for (const Eigen::Vector3f& s : source.points) {
+    const Eigen::Vector3f p = (T * s.cast<double>()).cast<float>();
+    float best = 1e30f;
+    std::size_t at = 0;
+    for (std::size_t j = 0; j < target_points.size(); ++j) {
+      if ((p - target_points[j]).squaredNorm() < best) best = (p - target_points[j]).squaredNorm(), at = j;
+    }
+    if (best > float(config.inlier_distance_m * config.inlier_distance_m)) continue;
+    ++inliers;
+    const double along = target.normals()[at].dot(p - target_points[at]);
+    sum += target.has_normal(int(at)) ? along * along : best;
+  }
+  EXPECT_EQ(r.inliers, inliers);
+  EXPECT_NEAR(r.rmse_m, std::sqrt(sum / inliers), 1e-4);
+  EXPECT_NEAR(r.overlap, double(inliers) / source.points.size(), 1e-12);
+}
+
+TEST(PlaceCloud, OnePointPerVoxelInsideItsVoxelWhateverTheOrder) {
+  Points3f pts = test::street_scene(3);
+  pts.push_back(Eigen::Vector3f(std::nanf(""), 0, 0));
+  pts.push_back(Eigen::Vector3f(1e30f, 0, 0));  // far, but no overflow
+  const double voxel = 0.5;
+  const Points3f cloud = closure::voxel_downsample(pts, voxel);
+  std::set<std::tuple<long, long, long>> voxels;
+  for (const Eigen::Vector3f& p : pts) {
+    if (!p.allFinite() || p.norm() > 1e6f) continue;
+    voxels.insert({long(std::floor(p.x() / voxel)), long(std::floor(p.y() / voxel)),
+                   long(std::floor(p.z() / voxel))});
+  }
+  EXPECT_EQ(cloud.size(), voxels.size() + 1);  // + the far point's voxel
+  std::size_t inside = 0;
+  for (const Eigen::Vector3f& c : cloud) {
+    inside += voxels.count({long(std::floor(c.x() / voxel)), long(std::floor(c.y() / voxel)),
+                            long(std::floor(c.z() / voxel))});
+  }
+  EXPECT_EQ(inside, voxels.size());
+  Points3f shuffled = pts;
+  std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(4));
+  const Points3f again = closure::voxel_downsample(shuffled, voxel);
+  ASSERT_EQ(again.size(), cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_LT((again[i] - cloud[i]).norm(), 1e-4f);
+  closure::CloudConfig capped;
+  capped.max_points = 500;
+  EXPECT_EQ(closure::voxel_cloud(pts, capped).size(), 500u);
+}
+
+TEST(TargetCloud, NearestMatchesBruteForceAndNormalsArePlaneNormals) {
+  const Points3f pts = closure::voxel_cloud(test::street_scene(21));
+  const closure::TargetCloud target(pts);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(-20.f, 20.f);
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3f q(u(rng), u(rng) / 8, u(rng));
+    float best = 1e30f;
+    for (const Eigen::Vector3f& p : pts) best = std::min(best, (p - q).squaredNorm());
+    float d2 = -1;
+    const int j = target.nearest(q, 1e30f, &d2);
+    ASSERT_GE(j, 0);
+    EXPECT_FLOAT_EQ(d2, best);
+    EXPECT_EQ(target.nearest(q, best * 0.99f, nullptr), best > 0 ? -1 : j);
+  }
+  // Ground points (y = 1.65, away from facades and objects) have vertical normals.
+  int ground = 0, vertical = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (std::abs(pts[i].y() - 1.65f) > 0.05f || std::abs(pts[i].x()) > 5 || !target.has_normal(int(i))) continue;
+    ++ground;
+    vertical += std::abs(target.normals()[i].y()) > 0.98f;
+  }
+  ASSERT_GT(ground, 50);
+  EXPECT_GT(vertical, ground * 9 / 10);
+  EXPECT_THROW(closure::TargetCloud(Points3f{Eigen::Vector3f(NAN, 0, 0)}), std::invalid_argument);
+  EXPECT_EQ(closure::TargetCloud(Points3f{}).nearest(Eigen::Vector3f::Zero(), 1.f, nullptr), -1);
+}
+
+}  // namespace
+}  // namespace loopscan
