@@ -15,5 +15,6 @@ void add_render_command(CLI::App& app);
 void add_vo_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_vocab_command(CLI::App& app);
+void add_close_command(CLI::App& app);
 
 }  // namespace loopscan::cli

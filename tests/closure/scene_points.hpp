@@ -4,6 +4,7 @@
 // leaves the along-street translation free.
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "loopscan/closure/place_cloud.hpp"
 
@@ -38,10 +39,20 @@ inline closure::Points3f street_scene(unsigned seed, const SceneOptions& o = {})
   }
   const double ground_y = 1.65;
   closure::Points3f pts;
+  // Windows and doors set back into the facades, irregular along the street (a facade bay of
+  // 4 m has one or not, of its own width) so that no shift of whole bays fits again.
+  std::vector<double> bay_start(64), bay_width(64);
+  for (std::size_t i = 0; i < bay_start.size(); ++i) {
+    bay_start[i] = u(rng) < 0.35 ? 9.0 : 0.3 + 1.2 * u(rng);  // 9: no window in this bay
+    bay_width[i] = 0.8 + 1.8 * u(rng);
+  }
   const auto recess = [&](double z, double y) {  // depth of the facade at (z, height)
     if (!o.facade_recesses) return 0.0;
-    const double zm = std::fmod(z + 1000.0, 4.0), ym = std::fmod(-y + ground_y + 100.0, 3.0);
-    return (zm > 1.0 && zm < 2.6 && ym > 0.9 && ym < 2.4) ? 0.35 : 0.0;
+    const double zz = z + 1000.0;
+    const std::size_t bay = std::size_t(std::floor(zz / 4.0)) % bay_start.size();
+    const double zm = zz - 4.0 * std::floor(zz / 4.0), ym = std::fmod(-y + ground_y + 100.0, 3.0);
+    const bool window = zm > bay_start[bay] && zm < bay_start[bay] + bay_width[bay];
+    return (window && ym > 0.9 && ym < 2.4) ? 0.35 : 0.0;
   };
   while (int(pts.size()) < o.points) {
     const double pick = u(rng);

@@ -11,6 +11,7 @@ namespace loopscan::closure {
 namespace {
 
 constexpr int kMinCorrespondences = 12;
+constexpr double kPointToPointWeight = 0.3;
 
 // The camera's up axis (-y in the KITTI / DSO camera frame): the yaw axis.
 const Eigen::Vector3d kUp(0.0, -1.0, 0.0);
@@ -34,19 +35,33 @@ bool step(const Points3f& source, const TargetCloud& target, const Eigen::Isomet
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   int used = 0;
+  const auto add = [&](const Eigen::Matrix<double, 6, 1>& J, double r, double weight) {
+    const double u = 1.0 + r * r / sigma2;
+    const double w = weight / (u * u);  // Geman-McClure
+    H.noalias() += w * J * J.transpose();
+    g.noalias() += w * r * J;
+  };
   for (const Eigen::Vector3f& s : source) {
     const Eigen::Vector3f p = R * s + t;
     const int j = target.nearest(p, max_d2, nullptr);
-    if (j < 0 || !target.has_normal(j)) continue;
-    const Eigen::Vector3d n = target.normals()[std::size_t(j)].cast<double>();
+    if (j < 0) continue;
     const Eigen::Vector3d pd = p.cast<double>();
-    const double r = n.dot(pd - target.points()[std::size_t(j)].cast<double>());
-    Eigen::Matrix<double, 6, 1> J;
-    J << n, pd.cross(n);
-    const double u = 1.0 + r * r / sigma2;
-    const double w = 1.0 / (u * u);  // Geman-McClure
-    H.noalias() += w * J * J.transpose();
-    g.noalias() += w * r * J;
+    const Eigen::Vector3d d = pd - target.points()[std::size_t(j)].cast<double>();
+    if (target.has_normal(j)) {
+      const Eigen::Vector3d n = target.normal(j).cast<double>();
+      Eigen::Matrix<double, 6, 1> J;
+      J << n, pd.cross(n);
+      add(J, n.dot(d), 1.0);
+    } else {
+      // Sparse stereo points often have no plane around them: point-to-point, down-weighted
+      // (the nearest point is only near the surface, not on the source point's spot).
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d e = Eigen::Vector3d::Unit(k);
+        Eigen::Matrix<double, 6, 1> J;
+        J << e, pd.cross(e);
+        add(J, d[k], kPointToPointWeight);
+      }
+    }
     ++used;
   }
   if (used < kMinCorrespondences) return false;
@@ -96,7 +111,7 @@ IcpResult score_alignment(const Points3f& source, const TargetCloud& target,
       sum_d2 += d2;
       continue;
     }
-    const Eigen::Vector3d n = target.normals()[std::size_t(j)].cast<double>();
+    const Eigen::Vector3d n = target.normal(j).cast<double>();
     const double along = n.dot((p - target.points()[std::size_t(j)]).cast<double>());
     sum_d2 += along * along;
     Htt += n * n.transpose();

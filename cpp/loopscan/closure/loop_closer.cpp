@@ -30,6 +30,9 @@ double rotation_angle(const Eigen::Matrix3d& R) {
 LoopCloserConfig LoopCloserConfig::make(Method method, Mode mode, double range_m) {
   LoopCloserConfig c;
   c.recognition = RecognizerConfig::make(method, mode, range_m);
+  if (method != Method::Delight && c.recognition.database.fusion == Fusion::Fused) {
+    c.max_candidate_distance = -6.0;
+  }
   return c;
 }
 
@@ -76,15 +79,18 @@ Eigen::Isometry3d LoopCloser::vo_T_world_cam(int keyframe_id) const {
 }
 
 std::vector<Loop> LoopCloser::verify(const TargetCloud& query, int keyframe_id,
-                                     const std::vector<Candidate>& candidates) {
+                                     const std::vector<Candidate>& candidates,
+                                     std::size_t& last_place_index) {
   std::vector<Loop> out;
   for (const Candidate& c : candidates) {
+    if (!(c.distance <= config_.max_candidate_distance)) continue;
     Loop loop = verify_candidate(query, clouds_[c.index], yaw_guesses(c), config_.verify);
     loop.query = keyframe_id;
     loop.match = c.place;
     loop.distance = c.distance;
     ++times_.verifications;
     out.push_back(loop);
+    last_place_index = c.index;
     if (loop.verdict == Verdict::Accepted) break;
   }
   return out;
@@ -154,8 +160,10 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
   PlaceDescriptor place;
   place.signature = describe(config_.recognition.method, scan, config_.recognition.descriptors,
                              &place.frame);
-  const TargetCloud target(voxel_cloud(raw_, config_.cloud), config_.normals);
   times_.describe += ms_since(t0);
+  t0 = Clock::now();
+  const TargetCloud target(voxel_cloud(raw_, config_.cloud), config_.normals);
+  times_.cloud += ms_since(t0);
   out.described = true;
   ++described_;
   ++times_.described;
@@ -165,32 +173,40 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
   times_.query += ms_since(t0);
   // 4. Verify the candidates, 5. confirm by consistency.
   t0 = Clock::now();
-  if (!out.candidates.empty()) {
-    out.verified = verify(target, keyframe.id, out.candidates);
+  std::size_t index = 0;  // database place of the last verification
+  out.verified = verify(target, keyframe.id, out.candidates, index);
+  if (!out.verified.empty()) {
     Loop& last = out.verified.back();
     if (last.verdict == Verdict::Accepted) {
-      const std::size_t index = out.candidates[out.verified.size() - 1].index;
+      last.verdict = Verdict::Pending;
       out.accepted = confirm(last, index);
-      if (out.accepted.empty()) last.verdict = Verdict::Pending;
     }
+  }
+  for (const Loop& v : out.verified) {
+    loop_index_[{v.query, v.match.keyframe}] = loops_.size();
+    loops_.push_back(v);
   }
   times_.verify += ms_since(t0);
   // 6. Join the map.
   db_.add({config_.recognition.session, keyframe.id}, place, keyframe.T_cam_world);
+  t0 = Clock::now();
   clouds_.push_back(to_place_cloud(target));
+  times_.cloud += ms_since(t0);
   // 7. Loop edges, and a solve when the revisit is new (or enough keyframes passed).
   t0 = Clock::now();
   for (Loop& loop : out.accepted) {
+    loop.verdict = Verdict::Accepted;
     const int a = node_of_.at(loop.query), b = node_of_.at(loop.match.keyframe);
+    int id;
     if (described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
-      const bool kept = graph_.add_loop(a, b, loop.T_query_match, &out.solve);
+      graph_.add_loop(a, b, loop.T_query_match, &out.solve, &id);
       last_solve_at_ = described_;
       ++times_.solves;
-      if (!kept) loop.verdict = Verdict::Inconsistent;
     } else {
-      graph_.add_loop_unsolved(a, b, loop.T_query_match);
+      id = graph_.add_loop_unsolved(a, b, loop.T_query_match);
       unsolved_loops_ = true;
     }
+    graph_loops_.push_back({loop_index_.at({loop.query, loop.match.keyframe}), id});
   }
   if (unsolved_loops_ && described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
     out.solve = graph_.optimise();
@@ -198,22 +214,22 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
     unsolved_loops_ = false;
     ++times_.solves;
   }
+  update_verdicts(out);
   times_.graph += ms_since(t0);
-  for (Loop& v : out.verified) {
-    for (const Loop& a : out.accepted) {
-      if (a.query == v.query && a.match == v.match && a.verdict != Verdict::Inconsistent) {
-        v.verdict = Verdict::Accepted;
-      }
-    }
-    loops_.push_back(v);
-  }
-  for (const Loop& a : out.accepted) {
-    if (a.query == keyframe.id) continue;  // earlier pending loops confirmed now
-    for (Loop& l : loops_) {
-      if (l.query == a.query && l.match == a.match) l.verdict = a.verdict == Verdict::Inconsistent ? Verdict::Inconsistent : Verdict::Accepted;
-    }
-  }
   return out;
+}
+
+// Loops the graph refused or dropped are inconsistent after all; the rest of the graph's are
+// accepted (including earlier pending ones this keyframe confirmed).
+void LoopCloser::update_verdicts(KeyframeClosure& out) {
+  for (const auto& [index, id] : graph_loops_) {
+    loops_[index].verdict = graph_.loop_active(id) ? Verdict::Accepted : Verdict::Inconsistent;
+  }
+  for (Loop& a : out.accepted) a.verdict = loops_[loop_index_.at({a.query, a.match.keyframe})].verdict;
+  for (Loop& v : out.verified) {
+    const auto it = loop_index_.find({v.query, v.match.keyframe});
+    if (it != loop_index_.end()) v.verdict = loops_[it->second].verdict;
+  }
 }
 
 GraphSolve LoopCloser::finish() {
@@ -223,6 +239,8 @@ GraphSolve LoopCloser::finish() {
     s = graph_.optimise();
     unsolved_loops_ = false;
     ++times_.solves;
+    KeyframeClosure none;
+    update_verdicts(none);
     times_.graph += ms_since(t0);
   }
   return s;

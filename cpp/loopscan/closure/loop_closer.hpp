@@ -3,6 +3,8 @@
 // query the map, verify the candidates geometrically, accept the loops that neighbouring
 // keyframes confirm, add the place to the map, and optimise the pose graph when a loop joins.
 #include <deque>
+#include <limits>
+#include <map>
 #include <optional>
 #include <unordered_map>
 #include <vector>
@@ -23,6 +25,10 @@ struct ConsistencyConfig {
 struct LoopCloserConfig {
   RecognizerConfig recognition = RecognizerConfig::make(Method::ScanContext);
   int candidates = 3;  // best places verified per keyframe (first that passes wins)
+  // Candidates whose descriptor distance is above this are not verified (the database's
+  // fused z-score for Scan Context and M2DP: true revisits score far below -6, most wrong
+  // places above; make() sets it per method, +inf: verify every candidate).
+  double max_candidate_distance = std::numeric_limits<double>::infinity();
   CloudConfig cloud;
   NormalConfig normals;
   VerifyConfig verify;
@@ -37,7 +43,7 @@ struct LoopCloserConfig {
 void validate(const LoopCloserConfig& config);
 
 struct StageTimes {  // milliseconds, summed over keyframes
-  double scan = 0, describe = 0, query = 0, verify = 0, graph = 0;
+  double scan = 0, describe = 0, cloud = 0, query = 0, verify = 0, graph = 0;
   int keyframes = 0, described = 0, verifications = 0, solves = 0;
 };
 
@@ -78,10 +84,11 @@ class LoopCloser {
   };
   int add_graph_node(const KeyframePose& keyframe, bool reset);
   std::vector<Loop> verify(const TargetCloud& query, int keyframe_id,
-                           const std::vector<Candidate>& candidates);
+                           const std::vector<Candidate>& candidates, std::size_t& last_place_index);
   std::vector<Loop> confirm(const Loop& loop, std::size_t place_index);
   bool consistent(const Verified& earlier, const Loop& loop, std::size_t place_index) const;
   Eigen::Isometry3d vo_T_world_cam(int keyframe_id) const;
+  void update_verdicts(KeyframeClosure& out);
 
   LoopCloserConfig config_;
   ScanImitator imitator_;
@@ -92,6 +99,8 @@ class LoopCloser {
   std::unordered_map<int, int> node_of_;  // keyframe id -> graph node
   std::deque<Verified> recent_;
   std::vector<Loop> loops_;
+  std::map<std::pair<int, int>, std::size_t> loop_index_;  // (query, match keyframe) -> loops_
+  std::vector<std::pair<std::size_t, int>> graph_loops_;   // loops_ index, graph loop id
   Points3f raw_;
   StageTimes times_;
   int described_ = 0;

@@ -220,10 +220,17 @@ int PoseGraph::add_node(const Eigen::Isometry3d& initial, const Eigen::Isometry3
   return id;
 }
 
-void PoseGraph::add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b) {
+int PoseGraph::add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b) {
   const PoseGraphConfig& c = impl_->config;
   impl_->edges.push_back(
       impl_->make_edge(a, b, T_a_b, c.loop_translation_m, kDeg * c.loop_rotation_deg, true));
+  return static_cast<int>(impl_->edges.size() - 1);
+}
+
+bool PoseGraph::loop_active(int loop_id) const {
+  if (loop_id < 0 || std::size_t(loop_id) >= impl_->edges.size()) return false;
+  const Edge& e = impl_->edges[std::size_t(loop_id)];
+  return e.loop && e.active;
 }
 
 GraphSolve PoseGraph::optimise() {
@@ -232,14 +239,16 @@ GraphSolve PoseGraph::optimise() {
   return s;
 }
 
-bool PoseGraph::add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve) {
+bool PoseGraph::add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve,
+                         int* loop_id) {
   const std::vector<Node> before = impl_->nodes;
   const double cost_before = impl_->cost();
-  add_loop_unsolved(a, b, T_a_b);
+  const int id = add_loop_unsolved(a, b, T_a_b);
+  if (loop_id) *loop_id = id;
   GraphSolve s = impl_->solve();
   bool kept = s.cost_after - cost_before <= impl_->config.max_loop_cost;
   if (!kept) {
-    impl_->edges.pop_back();
+    impl_->edges.back().active = false;  // kept inactive, so that ids stay valid
     impl_->nodes = before;
   } else {
     impl_->drop_disagreeing_loops(s);

@@ -18,8 +18,8 @@ struct PoseGraphConfig {
   double odometry_translation_min_m = 0.02;
   double odometry_rotation_deg_per_m = 0.05;
   double odometry_rotation_min_deg = 0.05;
-  double loop_translation_m = 0.1;
-  double loop_rotation_deg = 0.5;
+  double loop_translation_m = 0.3;  // verified stereo-VO loops: a few decimetres
+  double loop_rotation_deg = 1.0;
   double max_loop_cost = 40.0;       // chi-square(6) at ~1e-6
   double max_loop_residual = 6.0;    // whitened norm of one loop's residual
   int max_iterations = 30;
@@ -50,10 +50,14 @@ class PoseGraph {
   // Proposes a loop T_a_b between nodes a and b, solves, and keeps the loop if the graph
   // agrees (see the header comment); the poses are those of the solve either way.
   // Returns true when the loop was kept.
-  bool add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve = nullptr);
+  // Returns true when the loop was kept; `loop_id` (optional) receives its id.
+  bool add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve = nullptr,
+                int* loop_id = nullptr);
 
-  // Adds a loop without solving (batch use); call optimise() afterwards.
-  void add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b);
+  // Adds a loop without solving (batch use); call optimise() afterwards. Returns its id.
+  int add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b);
+  // False once a solve dropped the loop (or the cost gate refused it).
+  bool loop_active(int loop_id) const;
   GraphSolve optimise();
 
   std::size_t size() const;

@@ -1,5 +1,6 @@
 #include "loopscan/closure/target_cloud.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -31,7 +32,7 @@ struct TargetCloud::Index {
 };
 
 TargetCloud::TargetCloud(Points3f points, const NormalConfig& config)
-    : points_(std::move(points)) {
+    : points_(std::move(points)), config_(config) {
   if (config.neighbours < 3 || config.neighbours > 64 || !(config.max_radius_m > 0) ||
       !(config.max_radius_m <= 100) || !(config.max_planarity >= 0 && config.max_planarity <= 1)) {
     throw std::invalid_argument(
@@ -41,51 +42,67 @@ TargetCloud::TargetCloud(Points3f points, const NormalConfig& config)
     if (!p.allFinite()) throw std::invalid_argument("target cloud: non-finite point");
   }
   normals_.assign(points_.size(), Eigen::Vector3f::Zero());
-  if (points_.empty()) return;
-  index_ = std::make_unique<Index>(&points_);
-  normals_.assign(points_.size(), Eigen::Vector3f::Zero());
-  const std::size_t k = std::min<std::size_t>(config.neighbours, points_.size());
-  std::vector<std::uint32_t> ids(k);
-  std::vector<float> d2(k);
-  const float r2 = static_cast<float>(config.max_radius_m * config.max_radius_m);
-  for (std::size_t i = 0; i < points_.size(); ++i) {
-    const std::size_t found = index_->tree.knnSearch(points_[i].data(), k, ids.data(), d2.data());
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    std::size_t used = 0;
-    for (std::size_t j = 0; j < found; ++j) {
-      if (d2[j] > r2) continue;
-      mean += points_[ids[j]].cast<double>();
-      ++used;
-    }
-    if (used < 5) continue;
-    mean /= double(used);
-    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-    for (std::size_t j = 0; j < found; ++j) {
-      if (d2[j] > r2) continue;
-      const Eigen::Vector3d d = points_[ids[j]].cast<double>() - mean;
-      scatter += d * d.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
-    const Eigen::Vector3d ev = eig.eigenvalues();  // ascending
-    if (!(ev[1] > 0) || ev[0] > config.max_planarity * ev[1]) continue;
-    normals_[i] = eig.eigenvectors().col(0).cast<float>().normalized();
-    ++normal_count_;
+  fitted_.assign(points_.size(), 0);
+  if (!points_.empty()) index_ = std::make_unique<Index>(&points_);
+}
+
+// Plane fit over the nearest neighbours within the radius: the normal is the direction of
+// least spread, kept only when the spread across is small against the spread along.
+void TargetCloud::fit_normal(std::size_t i) const {
+  fitted_[i] = 1;
+  const std::size_t k = std::min<std::size_t>(std::size_t(config_.neighbours), points_.size());
+  std::uint32_t ids[64];
+  float d2[64];
+  const std::size_t found = index_->tree.knnSearch(points_[i].data(), k, ids, d2);
+  const float r2 = static_cast<float>(config_.max_radius_m * config_.max_radius_m);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::size_t used = 0;
+  for (std::size_t j = 0; j < found; ++j) {
+    if (d2[j] > r2) continue;
+    mean += points_[ids[j]].cast<double>();
+    ++used;
   }
+  if (used < 5) return;
+  mean /= double(used);
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (std::size_t j = 0; j < found; ++j) {
+    if (d2[j] > r2) continue;
+    const Eigen::Vector3d d = points_[ids[j]].cast<double>() - mean;
+    scatter += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
+  const Eigen::Vector3d ev = eig.eigenvalues();  // ascending
+  if (!(ev[1] > 0) || ev[0] > config_.max_planarity * ev[1]) return;
+  normals_[i] = eig.eigenvectors().col(0).cast<float>().normalized();
+}
+
+bool TargetCloud::has_normal(int i) const {
+  const std::size_t k = static_cast<std::size_t>(i);
+  if (!fitted_[k]) fit_normal(k);
+  return normals_[k].squaredNorm() > 0.5f;
+}
+
+const Eigen::Vector3f& TargetCloud::normal(int i) const {
+  const std::size_t k = static_cast<std::size_t>(i);
+  if (!fitted_[k]) fit_normal(k);
+  return normals_[k];
 }
 
 TargetCloud::~TargetCloud() = default;
 TargetCloud::TargetCloud(TargetCloud&& o) noexcept
     : points_(std::move(o.points_)),
+      config_(o.config_),
       normals_(std::move(o.normals_)),
-      index_(std::move(o.index_)),
-      normal_count_(o.normal_count_) {
+      fitted_(std::move(o.fitted_)),
+      index_(std::move(o.index_)) {
   if (index_) index_->adaptor.points = &points_;  // the moved vector keeps its buffer
 }
 TargetCloud& TargetCloud::operator=(TargetCloud&& o) noexcept {
   points_ = std::move(o.points_);
+  config_ = o.config_;
   normals_ = std::move(o.normals_);
+  fitted_ = std::move(o.fitted_);
   index_ = std::move(o.index_);
-  normal_count_ = o.normal_count_;
   if (index_) index_->adaptor.points = &points_;
   return *this;
 }
@@ -102,15 +119,23 @@ int TargetCloud::nearest(const Eigen::Vector3f& query, float max_squared_distanc
   return static_cast<int>(id);
 }
 
-PlaceCloud to_place_cloud(const TargetCloud& cloud, double min_vertical) {
-  PlaceCloud out;
-  Points3f ground;
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const bool flat = cloud.has_normal(int(i)) && std::abs(cloud.normals()[i].y()) >= min_vertical;
-    (flat ? ground : out.points).push_back(cloud.points()[i]);
+PlaceCloud to_place_cloud(const TargetCloud& cloud, std::size_t max_points, double min_vertical) {
+  Points3f structure, ground;
+  // Classify an even subset of about 1.5 x max_points (each needs a plane fit), then cap.
+  const std::size_t stride = std::max<std::size_t>(1, cloud.size() * 2 / (3 * std::max<std::size_t>(max_points, 1)));
+  for (std::size_t i = 0; i < cloud.size(); i += stride) {
+    const bool flat = cloud.has_normal(int(i)) && std::abs(cloud.normal(int(i)).y()) >= min_vertical;
+    (flat ? ground : structure).push_back(cloud.points()[i]);
   }
+  const std::size_t ground_cap = std::min(ground.size(), max_points / 4);
+  const std::size_t structure_cap = std::min(structure.size(), max_points - ground_cap);
+  const auto evenly = [](const Points3f& from, std::size_t n, Points3f& to) {
+    for (std::size_t i = 0; i < n; ++i) to.push_back(from[i * from.size() / n]);
+  };
+  PlaceCloud out;
+  evenly(structure, structure_cap, out.points);
   out.structure = out.points.size();
-  out.points.insert(out.points.end(), ground.begin(), ground.end());
+  evenly(ground, ground_cap, out.points);
   return out;
 }
 

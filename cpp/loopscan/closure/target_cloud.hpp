@@ -2,6 +2,7 @@
 // The side of an alignment that is searched: points with a nearest-neighbour index and surface
 // normals (for point-to-plane residuals). Built once per query keyframe, then every candidate
 // place is aligned onto it.
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -10,14 +11,16 @@
 namespace loopscan::closure {
 
 struct NormalConfig {
-  int neighbours = 10;         // points of the local plane fit
-  double max_radius_m = 2.0;   // neighbours farther away are not used
-  double max_planarity = 0.1;  // smallest / middle eigenvalue above this: no normal (not a plane)
+  int neighbours = 12;          // points of the local plane fit
+  double max_radius_m = 3.0;    // neighbours farther away are not used
+  double max_planarity = 0.25;  // smallest / middle eigenvalue above this: no normal (not a plane)
 };
 
+// Normals are fitted on first use (verification touches a fraction of the points), so a
+// TargetCloud is not safe to share between threads.
 class TargetCloud {
  public:
-  // Throws std::invalid_argument on an invalid config.
+  // Throws std::invalid_argument on an invalid config or a non-finite point.
   explicit TargetCloud(Points3f points, const NormalConfig& config = {});
   ~TargetCloud();
   TargetCloud(TargetCloud&&) noexcept;
@@ -28,20 +31,24 @@ class TargetCloud {
               float* squared_distance) const;
 
   const Points3f& points() const { return points_; }
-  const Points3f& normals() const { return normals_; }  // zero where no plane was found
-  bool has_normal(int i) const { return normals_[static_cast<std::size_t>(i)].squaredNorm() > 0.5f; }
+  bool has_normal(int i) const;                 // a plane was found around point i
+  const Eigen::Vector3f& normal(int i) const;   // unit; zero where has_normal is false
   std::size_t size() const { return points_.size(); }
-  std::size_t normal_count() const { return normal_count_; }
 
  private:
   struct Index;
-  Points3f points_, normals_;
+  void fit_normal(std::size_t i) const;
+  Points3f points_;
+  NormalConfig config_;
+  mutable Points3f normals_;
+  mutable std::vector<std::uint8_t> fitted_;  // 0: not yet, 1: fitted
   std::unique_ptr<Index> index_;
-  std::size_t normal_count_ = 0;
 };
 
 // The place cloud of a target: points whose normal is within acos(min_vertical) of the up
-// axis are ground, the rest (no normal included) structure.
-PlaceCloud to_place_cloud(const TargetCloud& cloud, double min_vertical = 0.9);
+// axis are ground, the rest (no normal included) structure; at most `max_points`, taken evenly
+// from each part (ground at most a quarter of them) of an even subset of ~1.5 x max_points.
+PlaceCloud to_place_cloud(const TargetCloud& cloud, std::size_t max_points = 1500,
+                          double min_vertical = 0.9);
 
 }  // namespace loopscan::closure

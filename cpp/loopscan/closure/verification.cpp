@@ -24,10 +24,14 @@ void validate(const VerifyConfig& c) {
   if (c.min_points < 3 || c.min_points > (1 << 22) || !(c.min_overlap >= 0 && c.min_overlap <= 1) ||
       !(c.max_rmse_m > 0 && c.max_rmse_m <= 100) ||
       !(c.min_translation_constraint >= 0 && c.min_translation_constraint <= 1) ||
-      !(c.max_translation_m > 0 && c.max_translation_m <= 1000)) {
+      !(c.max_translation_m > 0 && c.max_translation_m <= 1000) ||
+      !(c.along_track_seed_m >= 0 && c.along_track_seed_m <= 100) || c.screen_iterations < 1 ||
+      c.screen_iterations > 1000 || !(c.screen_min_overlap >= 0 && c.screen_min_overlap <= 1)) {
     throw std::invalid_argument(
         "verify config: min_points in [3, 2^22], min_overlap in [0, 1], max_rmse_m in (0, 100], "
-        "min_translation_constraint in [0, 1], max_translation_m in (0, 1000]");
+        "min_translation_constraint in [0, 1], max_translation_m in (0, 1000], "
+        "along_track_seed_m in [0, 100], screen_iterations in [1, 1000], screen_min_overlap in "
+        "[0, 1]");
   }
 }
 
@@ -47,26 +51,49 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
   validate(config);
   Loop loop;
   if (int(query.size()) < config.min_points || int(place.points.size()) < config.min_points ||
-      int(place.structure) < config.min_points / 2 ||
-      int(query.normal_count()) < config.min_points / 2) {
+      int(place.structure) < config.min_points / 2) {
     loop.verdict = Verdict::FewPoints;
     return loop;
   }
   std::vector<Eigen::Isometry3d> starts;
-  for (double along : {0.0, config.along_track_seed_m, -config.along_track_seed_m}) {
+  const double a = config.along_track_seed_m;
+  for (double along : {0.0, a, -a}) {
     for (double yaw : yaws) {
       Eigen::Isometry3d T = yaw_rotation(yaw);
       T.translation() = Eigen::Vector3d(0, 0, along);
       starts.push_back(T);
     }
   }
-  IcpResult best;
+  // Screen every start with the coarse stage on a quarter of the points, refine the best.
+  IcpConfig screen = config.icp, refine = config.icp;
+  screen.stage_distances_m.resize(1);
+  screen.stage_strides.assign(1, 1);
+  screen.max_iterations_per_stage = config.screen_iterations;
+  refine.stage_distances_m.erase(refine.stage_distances_m.begin());
+  refine.stage_strides.erase(refine.stage_strides.begin());
+  const std::size_t stride = std::size_t(config.icp.stage_strides.front());
+  const Points3f subset = every_nth(place.points, stride);
+  const std::size_t subset_structure = (place.structure + stride - 1) / stride;
+  std::vector<IcpResult> screened;
+  std::size_t b = 0;
   for (std::size_t i = 0; i < starts.size(); ++i) {
-    const IcpResult r =
-        align_point_to_plane(place.points, query, starts[i], config.icp, place.structure);
-    loop.iterations += r.iterations;
-    if (i == 0 || r.overlap > best.overlap) best = r;
-    if (best.overlap >= config.confident_overlap && best.rmse_m <= config.max_rmse_m) break;
+    screened.push_back(align_point_to_plane(subset, query, starts[i], screen, subset_structure));
+    loop.iterations += screened.back().iterations;
+    if (screened[i].overlap > screened[b].overlap) b = i;
+  }
+  IcpResult best = screened[b];
+  if (best.overlap < config.screen_min_overlap) {  // clearly no match: skip the refinement
+    loop.T_query_match = best.T_target_source;
+    loop.overlap = best.overlap;
+    loop.verdict = Verdict::LowOverlap;
+    return loop;
+  }
+  if (!refine.stage_distances_m.empty()) {
+    const Eigen::Isometry3d start = best.T_target_source;
+    best = align_point_to_plane(place.points, query, start, refine, place.structure);
+    loop.iterations += best.iterations;
+  } else {
+    best = score_alignment(place.points, query, best.T_target_source, config.icp, place.structure);
   }
   loop.T_query_match = best.T_target_source;
   loop.overlap = best.overlap;

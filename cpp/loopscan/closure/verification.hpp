@@ -41,15 +41,16 @@ struct VerifyConfig {
   IcpConfig icp;
   int min_points = 150;  // in each cloud (voxelised)
   // Structure points of the place (off the ground) within the inlier distance of the query's.
-  double min_overlap = 0.6;
+  double min_overlap = 0.4;
   // Starts: each yaw guess at the query's position and this far ahead / behind it (a place the
-  // descriptor matched a few keyframes off). The first start that reaches `confident_overlap`
-  // (and passes) ends the search; otherwise the best of all starts is judged.
+  // descriptor matched a few keyframes off). Every start gets the first ICP stage on the
+  // first stage's stride of the points; the best is refined by the other stages.
   double along_track_seed_m = 4.0;
-  double confident_overlap = 0.85;
-  double max_rmse_m = 0.3;
+  int screen_iterations = 6;
+  double screen_min_overlap = 0.25;  // below this after screening: refused without refining
+  double max_rmse_m = 0.45;
   double min_translation_constraint = 0.004;
-  double max_translation_m = 15.0;
+  double max_translation_m = 8.0;  // farther apart is not the same place
 };
 
 void validate(const VerifyConfig& config);

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Geometry>
+
 namespace loopscan::eval {
 
 RelativeError relative_pose_error(const std::vector<Eigen::Isometry3d>& gt,
@@ -39,6 +41,31 @@ RelativeError relative_pose_error(const std::vector<Eigen::Isometry3d>& gt,
     r.rotation_rmse_deg = std::sqrt(r2 / r.pairs);
   }
   return r;
+}
+
+Eigen::Isometry3d rigid_alignment(const std::vector<Eigen::Vector3d>& gt,
+                                  const std::vector<Eigen::Vector3d>& est) {
+  if (gt.size() != est.size()) {
+    throw std::invalid_argument("alignment: " + std::to_string(est.size()) +
+                                " estimated positions for " + std::to_string(gt.size()));
+  }
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (gt.size() < 3) return T;
+  Eigen::Matrix3Xd src(3, est.size()), dst(3, gt.size());
+  for (std::size_t i = 0; i < gt.size(); ++i) {
+    src.col(Eigen::Index(i)) = est[i];
+    dst.col(Eigen::Index(i)) = gt[i];
+  }
+  T.matrix() = Eigen::umeyama(src, dst, false);
+  return T;
+}
+
+double aligned_rmse(const std::vector<Eigen::Vector3d>& gt,
+                    const std::vector<Eigen::Vector3d>& est) {
+  const Eigen::Isometry3d T = rigid_alignment(gt, est);
+  double sum = 0;
+  for (std::size_t i = 0; i < gt.size(); ++i) sum += (T * est[i] - gt[i]).squaredNorm();
+  return gt.empty() ? 0.0 : std::sqrt(sum / double(gt.size()));
 }
 
 LoopTruth loop_truth(const Eigen::Isometry3d& T_query_match, const Eigen::Isometry3d& gt_query,

@@ -20,6 +20,13 @@ struct RelativeError {
 RelativeError relative_pose_error(const std::vector<Eigen::Isometry3d>& gt,
                                   const std::vector<Eigen::Isometry3d>& estimate, double delta_m);
 
+// The rigid transform (no scale) that best maps `estimate` onto `gt` (Umeyama), and the RMSE
+// of the positions after it: evo's APE with --align. Throws on mismatched sizes.
+Eigen::Isometry3d rigid_alignment(const std::vector<Eigen::Vector3d>& gt,
+                                  const std::vector<Eigen::Vector3d>& estimate);
+double aligned_rmse(const std::vector<Eigen::Vector3d>& gt,
+                    const std::vector<Eigen::Vector3d>& estimate);
+
 struct LoopTruth {
   double gt_distance_m = 0;  // between the two keyframes
   bool is_true = false;      // gt_distance_m <= the threshold

@@ -1,0 +1,265 @@
+#include "closure_outputs.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "loopscan/eval/loop_metrics.hpp"
+#include "loopscan/eval/odometry_metrics.hpp"
+#include "loopscan/io/atomic_file.hpp"
+#include "loopscan/io/errors.hpp"
+#include "loopscan/io/ground_truth_files.hpp"
+#include "loopscan/io/text_file_writer.hpp"
+#include "loopscan/io/vo_files.hpp"
+#include "loopscan/report/plot.hpp"
+
+namespace loopscan::cli {
+namespace {
+
+Eigen::Isometry3d world_cam(const KeyframePose& k) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = k.T_cam_world.leftCols<3>();
+  T.translation() = k.T_cam_world.col(3);
+  return T.inverse();
+}
+
+std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses) {
+  std::vector<Eigen::Vector3d> out;
+  for (const KeyframePose& k : poses) out.push_back(world_cam(k).translation());
+  return out;
+}
+
+Eigen::Isometry3d gt_pose(const GroundTruth& gt, int id) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.matrix().topRows<3>() = gt.poses[std::size_t(id)];
+  return T;
+}
+
+double mean_ms(double total, int count) { return count > 0 ? total / count : 0.0; }
+
+// Trajectories before and after, aligned to the ground truth (or the closed one to the input
+// frame without it); accepted loops as segments, false ones in red.
+std::string trajectory_figure(const ClosureRun& run, const std::optional<GroundTruth>& gt,
+                              const std::vector<char>& loop_true) {
+  const std::vector<Eigen::Vector3d> before = positions(run.input), after = positions(run.closed);
+  std::vector<Eigen::Vector3d> reference = before;
+  if (gt) {
+    reference.clear();
+    for (const KeyframePose& k : run.input) reference.push_back(gt->positions[std::size_t(k.id)]);
+  }
+  const Eigen::Isometry3d A = eval::rigid_alignment(reference, before);
+  const Eigen::Isometry3d B = eval::rigid_alignment(reference, after);
+  // Top view: the two axes of largest spread of the reference.
+  Eigen::Vector3d lo = reference.empty() ? Eigen::Vector3d::Zero() : reference[0], hi = lo;
+  for (const Eigen::Vector3d& p : reference) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Eigen::Vector3d spread = hi - lo;
+  int ax = 0, az = 2;
+  if (spread[1] > spread[0] && spread[1] > spread[2]) ax = 1;  // e.g. RobotCar's north-east-down
+  if (ax == 1 || spread[0] < spread[2]) az = ax == 0 ? 2 : (spread[0] > spread[2] ? 0 : 2);
+  const auto series = [&](const std::string& name, const std::vector<Eigen::Vector3d>& p,
+                          const Eigen::Isometry3d& T, const std::string& color) {
+    report::Series s{name, {}, {}, color};
+    for (const Eigen::Vector3d& v : p) {
+      const Eigen::Vector3d w = T * v;
+      s.x.push_back(w[ax]);
+      s.y.push_back(w[az]);
+    }
+    return s;
+  };
+  std::vector<report::Series> all;
+  if (gt) all.push_back(series("ground truth", reference, Eigen::Isometry3d::Identity(), "#222222"));
+  all.push_back(series("VO (before)", before, A, "#999999"));
+  all.push_back(series("closed (after)", after, B, "#1f77b4"));
+  std::unordered_map<int, std::size_t> at;
+  for (std::size_t i = 0; i < run.closed.size(); ++i) at[run.closed[i].id] = i;
+  report::Series good{"accepted loops", {}, {}, "#2ca02c"}, bad{"false loops", {}, {}, "#d62728"};
+  for (std::size_t i = 0; i < run.loops.size(); ++i) {
+    const closure::Loop& l = run.loops[i];
+    if (!l.accepted() || !at.count(l.match.keyframe)) continue;
+    report::Series& s = loop_true.empty() || loop_true[i] ? good : bad;
+    for (int id : {l.query, l.match.keyframe}) {
+      const Eigen::Vector3d w = B * after[at[id]];
+      s.x.push_back(w[ax]);
+      s.y.push_back(w[az]);
+    }
+    s.x.push_back(NAN);
+    s.y.push_back(NAN);
+  }
+  if (!good.x.empty()) all.push_back(good);
+  if (!bad.x.empty()) all.push_back(bad);
+  const char* axis[] = {"x [m]", "y [m]", "z [m]"};
+  return report::map_plot_svg(all, "Trajectory before and after loop closing", axis[ax], axis[az]);
+}
+
+}  // namespace
+
+ClosureRun run_closer(const closure::LoopCloserConfig& config,
+                      const std::vector<KeyframePose>& poses, const std::vector<IdPoint>& points,
+                      const std::vector<int>& reset_ids, bool progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  closure::LoopCloser closer(config);
+  std::vector<int> resets = reset_ids;
+  std::sort(resets.begin(), resets.end());
+  std::size_t next = 0;
+  int accepted = 0;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    const std::size_t first = next;
+    while (next < points.size() && points[next].id <= poses[k].id) ++next;
+    const bool reset = std::binary_search(resets.begin(), resets.end(), poses[k].id);
+    const closure::KeyframeClosure r =
+        closer.add_keyframe(poses[k], points.data() + first, next - first, reset);
+    accepted += int(r.accepted.size());
+    if (progress && (k % 200 == 0 || k + 1 == poses.size())) {
+      std::fprintf(stderr, "\rclosing loops: keyframe %zu/%zu, %d loops accepted", k + 1,
+                   poses.size(), accepted);
+    }
+  }
+  if (progress) std::fprintf(stderr, "\n");
+  closer.finish();
+  ClosureRun run;
+  run.input = poses;
+  run.closed = closer.corrected_poses();
+  run.loops = closer.loops();
+  run.times = closer.times();
+  run.described = closer.times().described;
+  run.total_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return run;
+}
+
+GroundTruth read_ground_truth(const std::string& path, const std::string& format,
+                              const std::vector<KeyframePose>& poses) {
+  GroundTruth gt;
+  gt.path = path;
+  if (io::parse_gt_format(format) == io::GtFormat::Kitti) {
+    gt.poses = io::read_kitti_poses(path);
+    for (const auto& T : gt.poses) gt.positions.push_back(T.col(3));
+  } else {
+    gt.positions = io::read_positions(path, io::GtFormat::RobotCar);
+  }
+  for (const KeyframePose& k : poses) {
+    if (k.id < 0 || std::size_t(k.id) >= gt.positions.size()) {
+      throw io::InputError(path, 0, "a line for keyframe id " + std::to_string(k.id) +
+                                        " (file has " + std::to_string(gt.positions.size()) +
+                                        " lines)");
+    }
+  }
+  return gt;
+}
+
+nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& run,
+                                     const closure::LoopCloserConfig& config,
+                                     const std::optional<GroundTruth>& gt, double true_within_m) {
+  io::write_sodso_poses(dir + "/poses_closed.txt", run.closed);
+  std::vector<Eigen::Matrix<double, 3, 4>> kitti;
+  for (const KeyframePose& k : run.closed) kitti.push_back(world_cam(k).matrix().topRows<3>());
+  io::write_kitti_poses(dir + "/trajectory_closed.txt", kitti);
+
+  // loops.csv, with the truth of each loop when there is ground truth.
+  std::vector<char> loop_true;
+  int proposed = 0, accepted = 0, true_accepted = 0;
+  std::vector<double> t_err, r_err;
+  io::TextFileWriter csv(dir + "/loops.csv");
+  csv.write(std::string("query,match,session,r00,r01,r02,tx,r10,r11,r12,ty,r20,r21,r22,tz,") +
+            "overlap,rmse,accepted,verdict,distance" + (gt ? ",true,gt_distance,translation_error,"
+                                                     "rotation_error_deg" : "") + "\n");
+  for (const closure::Loop& l : run.loops) {
+    ++proposed;
+    accepted += l.accepted();
+    char line[1024];
+    const Eigen::Matrix4d& M = l.T_query_match.matrix();
+    int n = std::snprintf(line, sizeof line, "%d,%d,%d", l.query, l.match.keyframe,
+                          l.match.session);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c) n += std::snprintf(line + n, sizeof line - n, ",%.9g", M(r, c));
+    }
+    n += std::snprintf(line + n, sizeof line - n, ",%.4f,%.4f,%d,%s,%.6g", l.overlap, l.rmse_m,
+                       int(l.accepted()), closure::to_string(l.verdict), l.distance);
+    if (gt) {
+      eval::LoopTruth t;
+      if (!gt->poses.empty()) {
+        t = eval::loop_truth(l.T_query_match, gt_pose(*gt, l.query), gt_pose(*gt, l.match.keyframe),
+                             true_within_m);
+      } else {
+        t.gt_distance_m = (gt->positions[std::size_t(l.query)] -
+                           gt->positions[std::size_t(l.match.keyframe)]).norm();
+        t.is_true = t.gt_distance_m <= true_within_m;
+        t.translation_error_m = std::abs(l.T_query_match.translation().norm() - t.gt_distance_m);
+        t.rotation_error_deg = NAN;
+      }
+      loop_true.push_back(t.is_true);
+      if (l.accepted()) {
+        true_accepted += t.is_true;
+        if (t.is_true) t_err.push_back(t.translation_error_m), r_err.push_back(t.rotation_error_deg);
+      }
+      n += std::snprintf(line + n, sizeof line - n, ",%d,%.4f,%.4f,%.4f", int(t.is_true),
+                         t.gt_distance_m, t.translation_error_m, t.rotation_error_deg);
+    }
+    csv.write(std::string(line, std::size_t(n)) + "\n");
+  }
+  csv.commit();
+
+  const closure::StageTimes& tm = run.times;
+  nlohmann::json m = {
+      {"method", method_name(config.recognition.method)},
+      {"keyframes", run.input.size()},
+      {"described", run.described},
+      {"loops",
+       {{"proposed", proposed}, {"accepted", accepted}}},
+      {"ms_per_keyframe",
+       {{"scan", mean_ms(tm.scan, tm.keyframes)},
+        {"describe", mean_ms(tm.describe, tm.described)},
+        {"cloud", mean_ms(tm.cloud, tm.described)},
+        {"query", mean_ms(tm.query, tm.described)},
+        {"verify", mean_ms(tm.verify, tm.described)},
+        {"graph", mean_ms(tm.graph, tm.keyframes)},
+        {"total", mean_ms(run.total_ms, tm.keyframes)}}},
+      {"ms_per_verification", mean_ms(tm.verify, tm.verifications)},
+      {"ms_per_solve", mean_ms(tm.graph, tm.solves)},
+      {"solves", tm.solves}};
+  if (gt) {
+    std::vector<Eigen::Vector3d> ref;
+    for (const KeyframePose& k : run.input) ref.push_back(gt->positions[std::size_t(k.id)]);
+    m["ground_truth"] = gt->path;
+    m["true_within_m"] = true_within_m;
+    m["ate_before_m"] = eval::aligned_rmse(ref, positions(run.input));
+    m["ate_after_m"] = eval::aligned_rmse(ref, positions(run.closed));
+    m["loops"]["true_accepted"] = true_accepted;
+    m["loops"]["false_accepted"] = accepted - true_accepted;
+    m["loops"]["precision"] = accepted > 0 ? double(true_accepted) / accepted : 1.0;
+    const auto median = [](std::vector<double> v) {
+      if (v.empty()) return std::nan("");
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    m["loops"]["median_translation_error_m"] = median(t_err);
+    m["loops"]["median_rotation_error_deg"] = median(r_err);
+    if (!gt->poses.empty()) {
+      std::vector<Eigen::Isometry3d> g, before, after;
+      for (std::size_t i = 0; i < run.input.size(); ++i) {
+        g.push_back(gt_pose(*gt, run.input[i].id));
+        before.push_back(world_cam(run.input[i]));
+        after.push_back(world_cam(run.closed[i]));
+      }
+      const eval::RelativeError rb = eval::relative_pose_error(g, before, 10.0);
+      const eval::RelativeError ra = eval::relative_pose_error(g, after, 10.0);
+      m["rpe10m_before"] = {{"translation_rmse_m", rb.translation_rmse_m},
+                            {"rotation_rmse_deg", rb.rotation_rmse_deg}};
+      m["rpe10m_after"] = {{"translation_rmse_m", ra.translation_rmse_m},
+                           {"rotation_rmse_deg", ra.rotation_rmse_deg}};
+      // KITTI's drift measure (100..800 m segments) of the keyframe trajectory.
+      const eval::OdometryMetrics kb = eval::odometry_metrics(g, before);
+      const eval::OdometryMetrics ka = eval::odometry_metrics(g, after);
+      m["kitti_drift_before"] = {{"translation_percent", kb.translation_percent},
+                                 {"rotation_deg_per_100m", kb.rotation_deg_per_100m}};
+      m["kitti_drift_after"] = {{"translation_percent", ka.translation_percent},
+                                {"rotation_deg_per_100m", ka.rotation_deg_per_100m}};
+    }
+  }
+  io::write_file_atomic(dir + "/trajectory.svg", trajectory_figure(run, gt, loop_true));
+  io::write_file_atomic(dir + "/metrics.json", m.dump(1) + "\n");
+  return m;
+}
+
+}  // namespace loopscan::cli

@@ -1,0 +1,46 @@
+#pragma once
+// Shared by `close` and `slam`: a LoopCloser run over a keyframe sequence, its files
+// (poses_closed.txt, trajectory_closed.txt, loops.csv, metrics.json, trajectory.svg) and the
+// evaluation against ground truth when there is one.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "loopscan/closure/loop_closer.hpp"
+
+namespace loopscan::cli {
+
+struct ClosureRun {
+  std::vector<KeyframePose> input;   // the VO's poses (world-to-camera)
+  std::vector<KeyframePose> closed;  // corrected, same ids and order
+  std::vector<closure::Loop> loops;  // every verification
+  closure::StageTimes times;
+  double total_ms = 0;
+  int described = 0;
+};
+
+// Streams the keyframes and their points (points sorted by keyframe id, as SO-DSO writes them)
+// through a LoopCloser; `reset_ids`: keyframes where the VO restarted.
+ClosureRun run_closer(const closure::LoopCloserConfig& config,
+                      const std::vector<KeyframePose>& poses, const std::vector<IdPoint>& points,
+                      const std::vector<int>& reset_ids, bool progress);
+
+struct GroundTruth {
+  std::string path;
+  std::vector<Eigen::Vector3d> positions;             // per frame id
+  std::vector<Eigen::Matrix<double, 3, 4>> poses;     // per frame id; empty for RobotCar
+};
+
+// Reads `path` (kitti | robotcar); throws io::InputError when a keyframe id has no line.
+GroundTruth read_ground_truth(const std::string& path, const std::string& format,
+                              const std::vector<KeyframePose>& poses);
+
+// Writes every output into `dir` and returns metrics.json's content.
+nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& run,
+                                     const closure::LoopCloserConfig& config,
+                                     const std::optional<GroundTruth>& gt,
+                                     double true_within_m);
+
+}  // namespace loopscan::cli
