@@ -1,10 +1,13 @@
 // loopscan close: a VO's SO-DSO export -> verified loops, a pose graph, the corrected
 // trajectory (poses_closed.txt, trajectory_closed.txt), loops.csv, metrics.json, trajectory.svg.
+#include <algorithm>
 #include <cstdio>
 
 #include "closure_outputs.hpp"
 #include "commands.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
+#include "loopscan/io/database_file.hpp"
+#include "loopscan/io/errors.hpp"
 #include "loopscan/io/incoming_ids.hpp"
 #include "loopscan/io/sodso.hpp"
 #include "loopscan/io/vo_files.hpp"
@@ -16,7 +19,7 @@ namespace {
 
 struct CloseArgs {
   std::string poses, points, out, gt, gt_format = "kitti", method = "sc", mode = "default",
-                                      reset_ids;
+                                      reset_ids, map, map_gt;
   double range_m = 45.0, true_within_m = 10.0;
   bool write_points = false, quiet = false;
   closure::LoopCloserConfig config;
@@ -38,8 +41,23 @@ void run_close(const CloseArgs& a) {
   const std::vector<int> resets = !a.reset_ids.empty() ? io::read_incoming_ids(a.reset_ids)
                                   : mode == Mode::Default ? detect_vo_resets(poses)
                                                           : std::vector<int>{};
-  const ClosureRun run = run_closer(config, poses, points, resets, !a.quiet);
-  const nlohmann::json m = write_closure_outputs(a.out, run, config, gt, a.true_within_m);
+  std::optional<SavedMap> map;
+  if (!a.map.empty()) {
+    map.emplace();
+    map->places = io::load_database(a.map, &config.recognition.database, &map->clouds);
+    if (map->clouds.empty() && map->places.size() > 0) {
+      throw io::InputError(a.map, 0, "place clouds (this map was saved without them: build it "
+                                     "with `loopscan close`)");
+    }
+    for (std::size_t i = 0; i < map->places.size(); ++i) {
+      config.recognition.session = std::max(config.recognition.session, map->places.place(i).session + 1);
+    }
+  }
+  std::optional<GroundTruth> map_gt;
+  if (!a.map_gt.empty()) map_gt = read_ground_truth(a.map_gt, a.gt_format, {});
+  const ClosureRun run =
+      run_closer(config, poses, points, resets, !a.quiet, map ? &*map : nullptr);
+  const nlohmann::json m = write_closure_outputs(a.out, run, config, gt, map_gt, a.true_within_m);
   if (a.write_points) {
     io::write_sodso_points(a.out + "/pts_closed.txt",
                            closure::reexpress_points(points, run.input, run.closed));
@@ -47,9 +65,12 @@ void run_close(const CloseArgs& a) {
   std::printf("%s: %zu keyframes, %d described; loops: %d proposed, %d accepted",
               method_name(method).c_str(), poses.size(), run.described,
               m["loops"]["proposed"].get<int>(), m["loops"]["accepted"].get<int>());
+  if (gt) std::printf(" (%d false)", m["loops"]["false_accepted"].get<int>());
+  if (map && run.anchored) std::printf("; in the map's frame from keyframe %d", run.anchored_at);
+  if (map && !run.anchored) std::printf("; not localised in the map");
   if (gt) {
-    std::printf(" (%d false); ATE %.3f m -> %.3f m", m["loops"]["false_accepted"].get<int>(),
-                m["ate_before_m"].get<double>(), m["ate_after_m"].get<double>());
+    std::printf("; ATE %.3f m -> %.3f m", m["ate_before_m"].get<double>(),
+                m["ate_after_m"].get<double>());
   }
   std::printf("; %.2f ms per keyframe -> %s\n", m["ms_per_keyframe"]["total"].get<double>(),
               shown(a.out).c_str());
@@ -73,6 +94,10 @@ void add_close_command(CLI::App& app) {
       ->check(finite_in(0.1, 1000))
       ->capture_default_str();
   cmd->add_option("--reset-ids", a->reset_ids, "file of keyframe ids where the VO reset");
+  cmd->add_option("--map", a->map,
+                  "a saved map (another session's map.db): localise in it and extend it");
+  cmd->add_option("--map-gt", a->map_gt,
+                  "ground truth of the map's keyframes when it is not --gt's trajectory");
   cmd->add_option("--candidates", a->config.candidates, "places verified per keyframe")
       ->check(finite_in(1, 100))
       ->capture_default_str();

@@ -8,6 +8,7 @@
 #include "loopscan/eval/loop_metrics.hpp"
 #include "loopscan/eval/odometry_metrics.hpp"
 #include "loopscan/io/atomic_file.hpp"
+#include "loopscan/io/database_file.hpp"
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/text_file_writer.hpp"
@@ -96,9 +97,11 @@ std::string trajectory_figure(const ClosureRun& run, const std::optional<GroundT
 
 ClosureRun run_closer(const closure::LoopCloserConfig& config,
                       const std::vector<KeyframePose>& poses, const std::vector<IdPoint>& points,
-                      const std::vector<int>& reset_ids, bool progress) {
+                      const std::vector<int>& reset_ids, bool progress, SavedMap* map) {
   const auto t0 = std::chrono::steady_clock::now();
-  closure::LoopCloser closer(config);
+  closure::LoopCloser closer = map ? closure::LoopCloser(config, std::move(map->places),
+                                                         std::move(map->clouds))
+                                   : closure::LoopCloser(config);
   std::vector<int> resets = reset_ids;
   std::sort(resets.begin(), resets.end());
   std::size_t next = 0;
@@ -123,6 +126,11 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
   run.loops = closer.loops();
   run.times = closer.times();
   run.described = closer.times().described;
+  run.session = config.recognition.session;
+  run.anchored = closer.anchored();
+  run.anchored_at = closer.anchored_at();
+  run.map = closer.corrected_map();
+  run.clouds = closer.place_clouds();
   run.total_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return run;
@@ -150,7 +158,10 @@ GroundTruth read_ground_truth(const std::string& path, const std::string& format
 
 nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& run,
                                      const closure::LoopCloserConfig& config,
-                                     const std::optional<GroundTruth>& gt, double true_within_m) {
+                                     const std::optional<GroundTruth>& gt,
+                                     const std::optional<GroundTruth>& map_gt,
+                                     double true_within_m) {
+  io::save_database(run.map, dir + "/map.db", &run.clouds);
   io::write_sodso_poses(dir + "/poses_closed.txt", run.closed);
   std::vector<Eigen::Matrix<double, 3, 4>> kitti;
   for (const KeyframePose& k : run.closed) kitti.push_back(world_cam(k).matrix().topRows<3>());
@@ -177,13 +188,18 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
     n += std::snprintf(line + n, sizeof line - n, ",%.4f,%.4f,%d,%s,%.6g", l.overlap, l.rmse_m,
                        int(l.accepted()), closure::to_string(l.verdict), l.distance);
     if (gt) {
+      const GroundTruth& other = l.match.session != run.session && map_gt ? *map_gt : *gt;
+      if (l.match.keyframe < 0 || std::size_t(l.match.keyframe) >= other.positions.size()) {
+        throw io::InputError(other.path, 0, "a line for map keyframe id " +
+                                                std::to_string(l.match.keyframe));
+      }
       eval::LoopTruth t;
-      if (!gt->poses.empty()) {
-        t = eval::loop_truth(l.T_query_match, gt_pose(*gt, l.query), gt_pose(*gt, l.match.keyframe),
-                             true_within_m);
+      if (!gt->poses.empty() && !other.poses.empty()) {
+        t = eval::loop_truth(l.T_query_match, gt_pose(*gt, l.query),
+                             gt_pose(other, l.match.keyframe), true_within_m);
       } else {
         t.gt_distance_m = (gt->positions[std::size_t(l.query)] -
-                           gt->positions[std::size_t(l.match.keyframe)]).norm();
+                           other.positions[std::size_t(l.match.keyframe)]).norm();
         t.is_true = t.gt_distance_m <= true_within_m;
         t.translation_error_m = std::abs(l.T_query_match.translation().norm() - t.gt_distance_m);
         t.rotation_error_deg = NAN;
@@ -217,7 +233,11 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
         {"total", mean_ms(run.total_ms, tm.keyframes)}}},
       {"ms_per_verification", mean_ms(tm.verify, tm.verifications)},
       {"ms_per_solve", mean_ms(tm.graph, tm.solves)},
-      {"solves", tm.solves}};
+      {"solves", tm.solves},
+      {"session", run.session},
+      {"anchored_to_map", run.anchored},
+      {"anchored_at_keyframe", run.anchored_at},
+      {"map_places", run.map.size()}};
   if (gt) {
     std::vector<Eigen::Vector3d> ref;
     for (const KeyframePose& k : run.input) ref.push_back(gt->positions[std::size_t(k.id)]);

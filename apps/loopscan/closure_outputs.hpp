@@ -19,13 +19,25 @@ struct ClosureRun {
   closure::StageTimes times;
   double total_ms = 0;
   int described = 0;
+  int session = 0;
+  bool anchored = true;  // in the saved map's frame (always true without one)
+  int anchored_at = -1;
+  Database map;          // every place (a saved map's and this session's, corrected)
+  std::vector<PlaceCloud> clouds;
+};
+
+struct SavedMap {
+  Database places;
+  std::vector<PlaceCloud> clouds;
 };
 
 // Streams the keyframes and their points (points sorted by keyframe id, as SO-DSO writes them)
 // through a LoopCloser; `reset_ids`: keyframes where the VO restarted.
+// `map` (optional): a saved map this session continues (config.recognition.session must be
+// new to it).
 ClosureRun run_closer(const closure::LoopCloserConfig& config,
                       const std::vector<KeyframePose>& poses, const std::vector<IdPoint>& points,
-                      const std::vector<int>& reset_ids, bool progress);
+                      const std::vector<int>& reset_ids, bool progress, SavedMap* map = nullptr);
 
 struct GroundTruth {
   std::string path;
@@ -37,10 +49,12 @@ struct GroundTruth {
 GroundTruth read_ground_truth(const std::string& path, const std::string& format,
                               const std::vector<KeyframePose>& poses);
 
-// Writes every output into `dir` and returns metrics.json's content.
+// Writes every output into `dir` (map.db included) and returns metrics.json's content.
+// `map_gt`: ground truth of the saved map's keyframes (cross-session loops), else `gt`.
 nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& run,
                                      const closure::LoopCloserConfig& config,
                                      const std::optional<GroundTruth>& gt,
+                                     const std::optional<GroundTruth>& map_gt,
                                      double true_within_m);
 
 }  // namespace loopscan::cli

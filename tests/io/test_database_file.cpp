@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cstring>
 #include <random>
 
 #include <unistd.h>
@@ -11,6 +12,7 @@
 #include "loopscan/core/database/database.hpp"
 #include "loopscan/io/database_file.hpp"
 #include "loopscan/io/errors.hpp"
+#include <zlib.h>
 
 namespace loopscan {
 namespace {
@@ -138,9 +140,9 @@ TEST_F(DatabaseFile, WrongVersionMagicAndParametersHaveClearErrors) {
     }
     return std::string("loaded");
   };
-  std::string v2 = good;
-  v2[8] = 2;
-  EXPECT_NE(message(v2).find("format version 2"), std::string::npos) << message(v2);
+  std::string v3 = good;
+  v3[8] = 3;
+  EXPECT_NE(message(v3).find("format version 3"), std::string::npos) << message(v3);
   EXPECT_NE(message("PK\x03\x04 not a database").find("LOOPSCDB"), std::string::npos);
   DatabaseConfig m2dp;
   m2dp.method = Method::M2dp;
@@ -172,6 +174,48 @@ TEST_F(DatabaseFile, ScanContextPlacesWithLargeSpectralKeysRoundTrip) {
   const Database back = io::load_database(path("k.db"));
   ASSERT_EQ(back.size(), 1u);
   EXPECT_EQ(back.query({s}, 1).front().place, (PlaceRef{0, 1}));
+}
+
+TEST_F(DatabaseFile, PlaceCloudsRoundTripToTheCentimetreAndVersion1StillLoads) {
+  const Database db = sample_database(Method::ScanContext, 3);
+  std::vector<PlaceCloud> clouds(3);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-90.f, 90.f);
+  for (std::size_t i = 0; i < clouds.size(); ++i) {
+    for (std::size_t k = 0; k < 50 * i; ++k) clouds[i].points.emplace_back(u(rng), u(rng) / 20, u(rng));
+    clouds[i].structure = clouds[i].points.size() / 2;
+  }
+  io::save_database(db, path("c.db"), &clouds);
+  std::vector<PlaceCloud> back;
+  EXPECT_EQ(io::load_database(path("c.db"), nullptr, &back).size(), 3u);
+  ASSERT_EQ(back.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    ASSERT_EQ(back[i].points.size(), clouds[i].points.size());
+    EXPECT_EQ(back[i].structure, clouds[i].structure);
+    for (std::size_t k = 0; k < back[i].points.size(); ++k) {
+      EXPECT_LE((back[i].points[k] - clouds[i].points[k]).cwiseAbs().maxCoeff(), 0.0051f);
+    }
+  }
+  io::save_database(db, path("d.db"), &back);  // a loaded set saves to the same bytes
+  EXPECT_EQ(read_bytes(path("c.db")), read_bytes(path("d.db")));
+  // A file without clouds gives none; a version-1 file (no cloud section at all) loads.
+  io::save_database(db, path("n.db"));
+  EXPECT_EQ(io::load_database(path("n.db"), nullptr, &back).size(), 3u);
+  EXPECT_TRUE(back.empty());
+  std::string v1 = read_bytes(path("n.db"));
+  v1[8] = 1;
+  v1.erase(v1.size() - 5, 1);  // the cloud flag before the checksum
+  const auto crc = static_cast<std::uint32_t>(
+      crc32(0L, reinterpret_cast<const Bytef*>(v1.data()), static_cast<uInt>(v1.size() - 4)));
+  std::memcpy(&v1[v1.size() - 4], &crc, 4);
+  write_bytes(path("v1.db"), v1);
+  EXPECT_EQ(io::load_database(path("v1.db")).size(), 3u);
+  // Clouds that cannot be stored are refused before anything is written.
+  clouds[1].points[0].x() = 400.f;
+  EXPECT_THROW(io::save_database(db, path("bad.db"), &clouds), std::invalid_argument);
+  clouds.pop_back();
+  EXPECT_THROW(io::save_database(db, path("bad.db"), &clouds), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(path("bad.db")));
 }
 
 }  // namespace

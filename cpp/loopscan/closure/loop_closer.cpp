@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Eigen/SVD>
+
 #include "loopscan/core/descriptors/describe.hpp"
 
 namespace loopscan::closure {
@@ -19,6 +21,22 @@ Eigen::Isometry3d isometry(const Pose3x4& T) {
   out.linear() = T.leftCols<3>();
   out.translation() = T.col(3);
   return out;
+}
+
+// The nearest rotation (SVD): poses written with a few digits, or chained from such, are not
+// quite orthonormal, and a rigid inverse of them misplaces points far from the origin (1e-4
+// of non-orthonormality at 1 km: 0.1 m a pose, compounding along the odometry).
+KeyframePose orthonormalised(KeyframePose k) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(Eigen::Matrix3d(k.T_cam_world.leftCols<3>()),
+                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() < 0) {
+    Eigen::Matrix3d U = svd.matrixU();
+    U.col(2) *= -1;
+    R = U * svd.matrixV().transpose();
+  }
+  k.T_cam_world.leftCols<3>() = R;
+  return k;
 }
 
 double rotation_angle(const Eigen::Matrix3d& R) {
@@ -52,14 +70,58 @@ void validate(const LoopCloserConfig& c) {
 }
 
 LoopCloser::LoopCloser(const LoopCloserConfig& config)
+    : LoopCloser(config, Database(config.recognition.database), {}) {}
+
+LoopCloser::LoopCloser(const LoopCloserConfig& config, Database map,
+                       std::vector<PlaceCloud> map_clouds)
     : config_(config),
       imitator_(config.recognition.imitation),
-      db_(config.recognition.database),
+      db_(std::move(map)),
+      clouds_(std::move(map_clouds)),
       graph_(config.graph) {
   validate(config_);
+  if (clouds_.size() != db_.size()) {
+    throw std::invalid_argument("loop closer: the map has " + std::to_string(db_.size()) +
+                                " places but " + std::to_string(clouds_.size()) +
+                                " place clouds (a map saved without clouds cannot verify loops)");
+  }
+  if (db_.config().method != config_.recognition.method) {
+    throw std::invalid_argument("loop closer: the map holds " + method_name(db_.config().method) +
+                                " places, this closer describes with " +
+                                method_name(config_.recognition.method));
+  }
+  for (std::size_t i = 0; i < db_.size(); ++i) {
+    if (db_.place(i).session == config_.recognition.session) {
+      throw std::invalid_argument("loop closer: the map already has places of session " +
+                                  std::to_string(config_.recognition.session));
+    }
+    if (!db_.pose(i)) throw std::invalid_argument("loop closer: a map place has no pose");
+  }
+  anchored_ = db_.size() == 0;
 }
 
-int LoopCloser::add_graph_node(const KeyframePose& keyframe, bool reset) {
+int LoopCloser::match_node(const Loop& loop) {
+  if (loop.match.session == config_.recognition.session) {
+    return graph_node_[pose_index_.at(loop.match.keyframe)];
+  }
+  const auto it = map_node_.find(loop.place_index);
+  if (it != map_node_.end()) return it->second;
+  const int node = graph_.add_fixed_node(isometry(*db_.pose(loop.place_index)).inverse());
+  map_node_[loop.place_index] = node;
+  return node;
+}
+
+// The first loop into the saved map puts this session into the map's frame.
+void LoopCloser::anchor(const Loop& loop, int query_node) {
+  const Eigen::Isometry3d T_map_match = isometry(*db_.pose(loop.place_index)).inverse();
+  const Eigen::Isometry3d T_map_query = T_map_match * loop.T_query_match.inverse();
+  graph_.transform(T_map_query * graph_.pose(query_node).inverse());
+  anchored_ = true;
+  anchored_at_ = loop.query;
+}
+
+int LoopCloser::add_graph_node(const KeyframePose& given, bool reset) {
+  const KeyframePose keyframe = orthonormalised(given);
   const Eigen::Isometry3d T_world_cam = isometry(keyframe.T_cam_world).inverse();
   int node;
   if (input_poses_.empty() || reset) {
@@ -69,13 +131,14 @@ int LoopCloser::add_graph_node(const KeyframePose& keyframe, bool reset) {
         isometry(input_poses_.back().T_cam_world) * T_world_cam;  // T_prev_this
     node = graph_.add_node(T_world_cam, &odometry);
   }
+  pose_index_[keyframe.id] = input_poses_.size();
   input_poses_.push_back(keyframe);
-  node_of_[keyframe.id] = node;
+  graph_node_.push_back(node);
   return node;
 }
 
 Eigen::Isometry3d LoopCloser::vo_T_world_cam(int keyframe_id) const {
-  return isometry(input_poses_[std::size_t(node_of_.at(keyframe_id))].T_cam_world).inverse();
+  return isometry(input_poses_[pose_index_.at(keyframe_id)].T_cam_world).inverse();
 }
 
 std::vector<Loop> LoopCloser::verify(const TargetCloud& query, int keyframe_id,
@@ -88,6 +151,7 @@ std::vector<Loop> LoopCloser::verify(const TargetCloud& query, int keyframe_id,
     loop.query = keyframe_id;
     loop.match = c.place;
     loop.distance = c.distance;
+    loop.place_index = c.index;
     ++times_.verifications;
     out.push_back(loop);
     last_place_index = c.index;
@@ -140,7 +204,7 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
   KeyframeClosure out;
   out.keyframe = keyframe.id;
   ++times_.keyframes;
-  if (node_of_.count(keyframe.id)) {
+  if (pose_index_.count(keyframe.id)) {
     throw std::invalid_argument("loop closer: keyframe id " + std::to_string(keyframe.id) +
                                 " given twice");
   }
@@ -183,7 +247,7 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
     }
   }
   for (const Loop& v : out.verified) {
-    loop_index_[{v.query, v.match.keyframe}] = loops_.size();
+    loop_index_[{v.query, v.place_index}] = loops_.size();
     loops_.push_back(v);
   }
   times_.verify += ms_since(t0);
@@ -196,9 +260,14 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
   t0 = Clock::now();
   for (Loop& loop : out.accepted) {
     loop.verdict = Verdict::Accepted;
-    const int a = node_of_.at(loop.query), b = node_of_.at(loop.match.keyframe);
+    const int a = graph_node_[pose_index_.at(loop.query)];
+    if (!anchored_ && loop.match.session != config_.recognition.session) anchor(loop, a);
+    const int b = match_node(loop);
     int id;
-    if (described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
+    // A loop the current estimate already agrees with may wait for the next solve; any other
+    // one is solved now, through the graph's cost gate.
+    const bool agrees = graph_.loop_residual(a, b, loop.T_query_match) <= config_.graph.max_loop_residual;
+    if (!agrees || described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
       graph_.add_loop(a, b, loop.T_query_match, &out.solve, &id);
       last_solve_at_ = described_;
       ++times_.solves;
@@ -206,7 +275,7 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
       id = graph_.add_loop_unsolved(a, b, loop.T_query_match);
       unsolved_loops_ = true;
     }
-    graph_loops_.push_back({loop_index_.at({loop.query, loop.match.keyframe}), id});
+    graph_loops_.push_back({loop_index_.at({loop.query, loop.place_index}), id});
   }
   if (unsolved_loops_ && described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
     out.solve = graph_.optimise();
@@ -225,9 +294,9 @@ void LoopCloser::update_verdicts(KeyframeClosure& out) {
   for (const auto& [index, id] : graph_loops_) {
     loops_[index].verdict = graph_.loop_active(id) ? Verdict::Accepted : Verdict::Inconsistent;
   }
-  for (Loop& a : out.accepted) a.verdict = loops_[loop_index_.at({a.query, a.match.keyframe})].verdict;
+  for (Loop& a : out.accepted) a.verdict = loops_[loop_index_.at({a.query, a.place_index})].verdict;
   for (Loop& v : out.verified) {
-    const auto it = loop_index_.find({v.query, v.match.keyframe});
+    const auto it = loop_index_.find({v.query, v.place_index});
     if (it != loop_index_.end()) v.verdict = loops_[it->second].verdict;
   }
 }
@@ -252,8 +321,23 @@ std::vector<KeyframePose> LoopCloser::corrected_poses() const {
   for (std::size_t i = 0; i < input_poses_.size(); ++i) {
     KeyframePose k;
     k.id = input_poses_[i].id;
-    k.T_cam_world = graph_.pose(int(i)).inverse().matrix().topRows<3>();
+    k.T_cam_world = graph_.pose(graph_node_[i]).inverse().matrix().topRows<3>();
     out.push_back(k);
+  }
+  return out;
+}
+
+Database LoopCloser::corrected_map() const {
+  Database out(db_.config());
+  std::vector<float> payload(std::size_t(db_.payload_floats()));
+  for (std::size_t i = 0; i < db_.size(); ++i) {
+    const PlaceRef p = db_.place(i);
+    std::optional<Pose3x4> pose = db_.pose(i);
+    if (p.session == config_.recognition.session) {
+      pose = graph_.pose(graph_node_[pose_index_.at(p.keyframe)]).inverse().matrix().topRows<3>();
+    }
+    db_.stored_payload(i, payload.data());
+    out.add_stored(p, payload.data(), db_.frame(i), pose);
   }
   return out;
 }

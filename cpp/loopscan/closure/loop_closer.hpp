@@ -34,8 +34,9 @@ struct LoopCloserConfig {
   VerifyConfig verify;
   ConsistencyConfig consistency;
   PoseGraphConfig graph;
-  // Solve the graph at most every this many keyframes while loops keep coming (the first
-  // loop of a revisit is always solved at once).
+  // Solve the graph at most every this many keyframes while loops keep coming: loops the
+  // current estimate already agrees with wait; any other (a new revisit) is solved at once,
+  // through the graph's cost gate.
   int min_keyframes_between_solves = 10;
   static LoopCloserConfig make(Method method, Mode mode = Mode::Default, double range_m = 45.0);
 };
@@ -59,6 +60,11 @@ struct KeyframeClosure {
 class LoopCloser {
  public:
   explicit LoopCloser(const LoopCloserConfig& config);
+  // Continues a saved map (other sessions' places, their poses in the map frame, and one cloud
+  // per place): this session lives in its VO frame until its first accepted loop into the map,
+  // then in the map's frame. Throws std::invalid_argument when the map's method differs,
+  // clouds are missing, a place has no pose or already has this session's id.
+  LoopCloser(const LoopCloserConfig& config, Database map, std::vector<PlaceCloud> map_clouds);
 
   // points: those the VO exported with this keyframe (its world frame); reset: the VO restarted.
   KeyframeClosure add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
@@ -67,8 +73,15 @@ class LoopCloser {
   // Solves the graph once more if loops joined since the last solve (end of a run).
   GraphSolve finish();
 
+  // True once this session's poses are in the map's frame (always, without a saved map).
+  bool anchored() const { return anchored_; }
+  int anchored_at() const { return anchored_at_; }  // query keyframe of the anchoring loop
+
   // Corrected world-to-camera pose of every keyframe so far, in input order.
   std::vector<KeyframePose> corrected_poses() const;
+  // The map with this session's places at their corrected poses (in the map's frame once
+  // anchored): what a later session continues.
+  Database corrected_map() const;
   const std::vector<Loop>& loops() const { return loops_; }  // every verification, in order
   const Database& database() const { return db_; }
   const std::vector<PlaceCloud>& place_clouds() const { return clouds_; }
@@ -89,6 +102,8 @@ class LoopCloser {
   bool consistent(const Verified& earlier, const Loop& loop, std::size_t place_index) const;
   Eigen::Isometry3d vo_T_world_cam(int keyframe_id) const;
   void update_verdicts(KeyframeClosure& out);
+  int match_node(const Loop& loop);
+  void anchor(const Loop& loop, int query_node);
 
   LoopCloserConfig config_;
   ScanImitator imitator_;
@@ -96,10 +111,14 @@ class LoopCloser {
   std::vector<PlaceCloud> clouds_;  // per database place
   PoseGraph graph_;
   std::vector<KeyframePose> input_poses_;
-  std::unordered_map<int, int> node_of_;  // keyframe id -> graph node
+  std::unordered_map<int, std::size_t> pose_index_;  // keyframe id -> input_poses_ index
+  std::vector<int> graph_node_;                      // per input pose
+  std::unordered_map<std::size_t, int> map_node_;    // saved-map place -> fixed graph node
+  bool anchored_ = true;
+  int anchored_at_ = -1;
   std::deque<Verified> recent_;
   std::vector<Loop> loops_;
-  std::map<std::pair<int, int>, std::size_t> loop_index_;  // (query, match keyframe) -> loops_
+  std::map<std::pair<int, std::size_t>, std::size_t> loop_index_;  // (query, place) -> loops_
   std::vector<std::pair<std::size_t, int>> graph_loops_;   // loops_ index, graph loop id
   Points3f raw_;
   StageTimes times_;

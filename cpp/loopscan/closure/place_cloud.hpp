@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include "loopscan/core/place_cloud.hpp"
+
 namespace loopscan::closure {
 
 using Points3f = std::vector<Eigen::Vector3f>;
@@ -26,12 +28,10 @@ Points3f voxel_downsample(const Points3f& points, double voxel_m);
 // voxel_downsample, the range cut and the count cap of `config`.
 Points3f voxel_cloud(const Points3f& scan, const CloudConfig& config = {});
 
-// What a map place keeps: its voxel cloud with the structure points (not on the ground) first,
-// so that overlap can be measured where places differ (every street has a ground).
-struct PlaceCloud {
-  Points3f points;
-  std::size_t structure = 0;  // points[0, structure) are off the ground
-};
+// What a map place keeps (core/place_cloud.hpp): its voxel cloud with the structure points
+// (not on the ground) first, so that overlap is measured where places differ (every street
+// has a ground).
+using loopscan::PlaceCloud;
 
 // Every `stride`-th point (stride >= 1): the cheap subsets of coarse alignment steps.
 Points3f every_nth(const Points3f& points, std::size_t stride);

@@ -81,6 +81,9 @@ struct PoseGraph::Impl {
   std::vector<Node> nodes;
   std::vector<Edge> edges;
   std::vector<int> run_starts;  // nodes that begin a VO run (prior, first one fixed)
+  std::vector<char> fixed;      // per node: a saved map's place
+  bool has_fixed = false;
+  int last_movable = -1;  // the node odometry continues from
 
   double edge_cost(const Edge& e) const {
     double r[6];
@@ -120,16 +123,18 @@ struct PoseGraph::Impl {
     }
     // Later VO runs float: a prior far weaker than any edge (at the current estimate) only
     // fixes their gauge until a loop ties them to the first run.
-    for (std::size_t i = 1; i < run_starts.size(); ++i) {
+    for (std::size_t i = has_fixed ? 0 : 1; i < run_starts.size(); ++i) {
       Node& n = nodes[run_starts[i]];
       const Eigen::Isometry3d T = to_pose(n);
       auto* f = new ceres::AutoDiffCostFunction<PriorError, 6, 3, 4>(
           new PriorError{T.translation(), Eigen::Quaterniond(T.rotation())});
       problem.AddResidualBlock(f, nullptr, n.p, n.q);
     }
-    if (!nodes.empty()) {
-      problem.SetParameterBlockConstant(nodes[0].p);
-      problem.SetParameterBlockConstant(nodes[0].q);
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      if (fixed[i] || (i == 0 && !has_fixed)) {
+        problem.SetParameterBlockConstant(nodes[i].p);
+        problem.SetParameterBlockConstant(nodes[i].q);
+      }
     }
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -205,19 +210,36 @@ PoseGraph& PoseGraph::operator=(PoseGraph&&) noexcept = default;
 int PoseGraph::add_node(const Eigen::Isometry3d& initial, const Eigen::Isometry3d* odometry) {
   if (!initial.matrix().allFinite()) throw std::invalid_argument("pose graph: non-finite pose");
   const int id = static_cast<int>(impl_->nodes.size());
-  if (odometry && id > 0) {
+  const int previous = impl_->last_movable;
+  if (odometry && previous >= 0) {
     // The new node continues the previous one's current estimate, so its edge starts at rest.
-    impl_->nodes.push_back(to_node(to_pose(impl_->nodes.back()) * (*odometry)));
+    impl_->nodes.push_back(to_node(to_pose(impl_->nodes[std::size_t(previous)]) * (*odometry)));
     const PoseGraphConfig& c = impl_->config;
     const double d = odometry->translation().norm();
     impl_->edges.push_back(impl_->make_edge(
-        id - 1, id, *odometry, std::max(c.odometry_translation_min_m, c.odometry_translation_per_m * d),
+        previous, id, *odometry, std::max(c.odometry_translation_min_m, c.odometry_translation_per_m * d),
         kDeg * std::max(c.odometry_rotation_min_deg, c.odometry_rotation_deg_per_m * d), false));
   } else {
     impl_->nodes.push_back(to_node(initial));
     impl_->run_starts.push_back(id);
   }
+  impl_->fixed.push_back(0);
+  impl_->last_movable = id;
   return id;
+}
+
+int PoseGraph::add_fixed_node(const Eigen::Isometry3d& T_world_cam) {
+  if (!T_world_cam.matrix().allFinite()) throw std::invalid_argument("pose graph: non-finite pose");
+  impl_->nodes.push_back(to_node(T_world_cam));
+  impl_->fixed.push_back(1);
+  impl_->has_fixed = true;
+  return static_cast<int>(impl_->nodes.size() - 1);
+}
+
+void PoseGraph::transform(const Eigen::Isometry3d& T_new_old) {
+  for (std::size_t i = 0; i < impl_->nodes.size(); ++i) {
+    if (!impl_->fixed[i]) impl_->nodes[i] = to_node(T_new_old * to_pose(impl_->nodes[i]));
+  }
 }
 
 int PoseGraph::add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b) {
@@ -225,6 +247,12 @@ int PoseGraph::add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b) {
   impl_->edges.push_back(
       impl_->make_edge(a, b, T_a_b, c.loop_translation_m, kDeg * c.loop_rotation_deg, true));
   return static_cast<int>(impl_->edges.size() - 1);
+}
+
+double PoseGraph::loop_residual(int a, int b, const Eigen::Isometry3d& T_a_b) const {
+  const PoseGraphConfig& c = impl_->config;
+  const Edge e = impl_->make_edge(a, b, T_a_b, c.loop_translation_m, kDeg * c.loop_rotation_deg, true);
+  return std::sqrt(impl_->edge_cost(e));
 }
 
 bool PoseGraph::loop_active(int loop_id) const {

@@ -14,15 +14,15 @@ namespace loopscan::closure {
 struct PoseGraphConfig {
   // Odometry standard deviations grow with the distance d between the two keyframes:
   // sigma = max(min, per_m * d). Loose on purpose: a loop that needs more than this is suspect.
-  double odometry_translation_per_m = 0.03;
+  double odometry_translation_per_m = 0.05;
   double odometry_translation_min_m = 0.02;
-  double odometry_rotation_deg_per_m = 0.05;
+  double odometry_rotation_deg_per_m = 0.1;
   double odometry_rotation_min_deg = 0.05;
   double loop_translation_m = 0.3;  // verified stereo-VO loops: a few decimetres
   double loop_rotation_deg = 1.0;
   double max_loop_cost = 40.0;       // chi-square(6) at ~1e-6
   double max_loop_residual = 6.0;    // whitened norm of one loop's residual
-  int max_iterations = 30;
+  int max_iterations = 200;
 };
 
 void validate(const PoseGraphConfig& config);
@@ -42,10 +42,18 @@ class PoseGraph {
   PoseGraph(PoseGraph&&) noexcept;
   PoseGraph& operator=(PoseGraph&&) noexcept;
 
-  // Appends a node. `odometry`: the VO's T_prev_this from the previous node (nullptr: a new
-  // VO run starts here, the node only gets a weak prior at `initial`).
+  // Appends a node. `odometry`: the VO's T_prev_this from the previous node added by add_node
+  // (nullptr: a new VO run starts here, the node only gets a weak prior at `initial`).
   int add_node(const Eigen::Isometry3d& initial_T_world_cam,
                const Eigen::Isometry3d* odometry_T_prev_this = nullptr);
+
+  // Appends a node that no solve moves: a place of a saved map (its pose in the map frame).
+  // Once the graph has one, the first node is no longer held: the map fixes the frame.
+  int add_fixed_node(const Eigen::Isometry3d& T_world_cam);
+
+  // Re-expresses every movable node in another frame: T <- T_new_old * T (a session that
+  // joins a saved map at its first loop).
+  void transform(const Eigen::Isometry3d& T_new_old);
 
   // Proposes a loop T_a_b between nodes a and b, solves, and keeps the loop if the graph
   // agrees (see the header comment); the poses are those of the solve either way.
@@ -53,6 +61,9 @@ class PoseGraph {
   // Returns true when the loop was kept; `loop_id` (optional) receives its id.
   bool add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve = nullptr,
                 int* loop_id = nullptr);
+
+  // Whitened residual norm a loop T_a_b would have at the current estimate.
+  double loop_residual(int a, int b, const Eigen::Isometry3d& T_a_b) const;
 
   // Adds a loop without solving (batch use); call optimise() afterwards. Returns its id.
   int add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b);

@@ -26,6 +26,7 @@ const char* to_string(Verdict v);
 struct Loop {
   int query = 0;  // keyframe id of the query
   PlaceRef match;
+  std::size_t place_index = 0;  // the match's index in the database
   // Maps the match's camera frame into the query's: p_query = T_query_match * p_match.
   Eigen::Isometry3d T_query_match = Eigen::Isometry3d::Identity();
   double overlap = 0;
@@ -41,7 +42,7 @@ struct VerifyConfig {
   IcpConfig icp;
   int min_points = 150;  // in each cloud (voxelised)
   // Structure points of the place (off the ground) within the inlier distance of the query's.
-  double min_overlap = 0.4;
+  double min_overlap = 0.45;
   // Starts: each yaw guess at the query's position and this far ahead / behind it (a place the
   // descriptor matched a few keyframes off). Every start gets the first ICP stage on the
   // first stage's stride of the points; the best is refined by the other stages.

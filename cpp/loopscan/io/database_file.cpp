@@ -20,6 +20,8 @@ constexpr char kMagic[8] = {'L', 'O', 'O', 'P', 'S', 'C', 'D', 'B'};
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8 + 4 + 4 + 4 + 4 + 8;
 constexpr std::size_t kPlaceFixedBytes = 4 + 4 + 1 + 9 * 4;
 constexpr std::size_t kPoseBytes = 12 * 8;
+constexpr std::size_t kMaxCloudPoints = std::size_t(1) << 20;
+constexpr float kMaxCloudM = 327.67f;  // int16 centimetres
 
 std::string describe(const DatabaseConfig& c) {
   return method_name(c.method) + "/" + fusion_name(c.fusion) + " w_s " +
@@ -57,9 +59,60 @@ void check_place(const Reader& r, std::uint64_t i, const PlaceRef& p,
   }
 }
 
+// The cloud section: every count checked against the bytes left before reading them.
+void read_clouds(Reader& r, std::uint64_t count, std::uintmax_t file_size,
+                 std::vector<PlaceCloud>* clouds) {
+  const auto present = r.get<std::uint8_t>("the cloud flag");
+  if (present > 1) r.fail("cloud flag " + std::to_string(present) + ", expected 0 or 1");
+  if (!present) return;
+  std::vector<std::int16_t> xyz;
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const auto n = r.get<std::uint32_t>("a cloud's point count");
+    const auto structure = r.get<std::uint32_t>("a cloud's structure count");
+    if (n > kMaxCloudPoints || structure > n) {
+      r.fail("cloud " + std::to_string(i) + ": " + std::to_string(n) + " points, " +
+             std::to_string(structure) + " structure points, expected at most 2^20 and "
+             "structure <= points");
+    }
+    if (r.offset() + 6ull * n + 4 > file_size) {
+      r.fail("cloud " + std::to_string(i) + ": the file is too short for " + std::to_string(n) +
+             " points (truncated?)");
+    }
+    xyz.resize(3 * std::size_t(n));
+    r.bytes(xyz.data(), xyz.size() * sizeof(std::int16_t), "cloud points");
+    if (!clouds) continue;
+    PlaceCloud c;
+    c.structure = structure;
+    c.points.reserve(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      c.points.emplace_back(xyz[3 * k] * 0.01f, xyz[3 * k + 1] * 0.01f, xyz[3 * k + 2] * 0.01f);
+    }
+    clouds->push_back(std::move(c));
+  }
+}
+
 }  // namespace
 
-void save_database(const Database& db, const std::string& path) {
+void save_database(const Database& db, const std::string& path,
+                   const std::vector<PlaceCloud>* clouds) {
+  if (clouds && clouds->size() != db.size()) {
+    throw std::invalid_argument("save_database: " + std::to_string(clouds->size()) +
+                                " clouds for " + std::to_string(db.size()) + " places");
+  }
+  if (clouds) {
+    for (const PlaceCloud& c : *clouds) {
+      if (c.structure > c.points.size() || c.points.size() > kMaxCloudPoints) {
+        throw std::invalid_argument("save_database: a cloud of more than 2^20 points or with "
+                                    "more structure points than points");
+      }
+      for (const Eigen::Vector3f& p : c.points) {
+        if (!(p.cwiseAbs().maxCoeff() < kMaxCloudM)) {
+          throw std::invalid_argument(
+              "save_database: a cloud point beyond 327 m of its keyframe (or NaN)");
+        }
+      }
+    }
+  }
   AtomicWriter file(path);
   Writer w(file.stream());
   const DatabaseConfig& c = db.config();
@@ -89,12 +142,27 @@ void save_database(const Database& db, const std::string& path) {
     db.stored_payload(i, payload.data());
     w.bytes(payload.data(), payload.size() * sizeof(float));
   }
+  w.put<std::uint8_t>(clouds ? 1 : 0);
+  if (clouds) {
+    std::vector<std::int16_t> xyz;
+    for (const PlaceCloud& c : *clouds) {
+      w.put<std::uint32_t>(static_cast<std::uint32_t>(c.points.size()));
+      w.put<std::uint32_t>(static_cast<std::uint32_t>(c.structure));
+      xyz.clear();
+      for (const Eigen::Vector3f& p : c.points) {
+        for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<std::int16_t>(std::lround(p[k] * 100.0f)));
+      }
+      w.bytes(xyz.data(), xyz.size() * sizeof(std::int16_t));
+    }
+  }
   const std::uint32_t crc = w.crc();
   file.stream().write(reinterpret_cast<const char*>(&crc), sizeof crc);
   file.commit();
 }
 
-Database load_database(const std::string& path, const DatabaseConfig* expected) {
+Database load_database(const std::string& path, const DatabaseConfig* expected,
+                       std::vector<PlaceCloud>* clouds) {
+  if (clouds) clouds->clear();
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, "cannot open the place database file");
   std::error_code ec;
@@ -108,8 +176,8 @@ Database load_database(const std::string& path, const DatabaseConfig* expected) 
     r.fail("not a loopscan place database (expected the magic \"LOOPSCDB\")");
   }
   const auto version = r.get<std::uint32_t>("the format version");
-  if (version != kDatabaseFileVersion) {
-    r.fail("format version " + std::to_string(version) + ", this build reads version " +
+  if (version != 1 && version != kDatabaseFileVersion) {
+    r.fail("format version " + std::to_string(version) + ", this build reads versions 1 to " +
            std::to_string(kDatabaseFileVersion));
   }
   DatabaseConfig c;
@@ -185,6 +253,7 @@ Database load_database(const std::string& path, const DatabaseConfig* expected) 
       r.fail("place " + std::to_string(i) + ": " + e.what());
     }
   }
+  if (version >= 2) read_clouds(r, count, file_size, clouds);
   const std::uint32_t crc = r.crc();
   std::uint32_t stored = 0;
   if (!in.read(reinterpret_cast<char*>(&stored), sizeof stored)) {

@@ -31,7 +31,11 @@ std::vector<Eigen::Isometry3d> drifting_poses(const Trajectory& gt, const std::v
                       Eigen::AngleAxisd(0.3 * sr * n01(rng), Eigen::Vector3d::UnitZ()))
                          .toRotationMatrix();
     noise.translation() = Eigen::Vector3d(n01(rng), 0.3 * n01(rng), n01(rng)) * st;
-    out.push_back(out.back() * rel * noise);
+    Eigen::Isometry3d next = out.back() * rel * noise;
+    // KITTI's ground truth has 7 digits: its rotations are not quite orthonormal, and chaining
+    // thousands of them would leave the VO poses visibly non-rigid.
+    next.linear() = Eigen::Quaterniond(next.linear()).normalized().toRotationMatrix();
+    out.push_back(next);
   }
   return out;
 }
