@@ -1,0 +1,129 @@
+// `loopscan close`: its files on a simulated drive with a drifting VO, the library's online
+// closer giving the same poses, a second session in the saved map, and bad input refused with
+// nothing written.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/cli_support.hpp"
+#include "loopscan/closure/loop_closer.hpp"
+#include "loopscan/io/sodso.hpp"
+
+namespace loopscan {
+namespace {
+
+using test::fs::path;
+
+// A drifting VO on the short built-in route (summer, and a winter session of it).
+const path& drives() {
+  static const path dir = [] {
+    // One folder a process: ctest runs the cases of this file in parallel processes.
+    const path d = test::temp_dir("close_" + std::to_string(getpid()));
+    for (const char* season : {"summer", "winter"}) {
+      const test::CliResult r = test::run("simulate --trajectory builtin:short --drift 0.02 "
+                                          "--drift-rotation 0.06 --season " + std::string(season) +
+                                          " --session " + (season[0] == 's' ? "1" : "7") +
+                                          " --out " + (d / season).string());
+      EXPECT_EQ(r.code, 0) << r.output;
+    }
+    return d;
+  }();
+  return dir;
+}
+
+std::string close_args(const std::string& session, const path& out) {
+  const path s = drives() / session;
+  return "close --quiet --poses " + (s / "poses_history_file.txt").string() + " --points " +
+         (s / "pts_history_file.txt").string() + " --gt " + (s / "gt.txt").string() + " --out " +
+         out.string();
+}
+
+TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
+  const path out = drives() / "out";
+  const test::CliResult r = test::run(close_args("summer", out) + " --write-points");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json m = nlohmann::json::parse(test::file_bytes(out / "metrics.json"));
+  EXPECT_GT(m["loops"]["accepted"].get<int>(), 0);
+  EXPECT_EQ(m["loops"]["false_accepted"].get<int>(), 0);
+  EXPECT_LT(m["ate_after_m"].get<double>(), m["ate_before_m"].get<double>());
+  for (const char* key : {"scan", "describe", "cloud", "query", "verify", "graph", "total"}) {
+    EXPECT_TRUE(m["ms_per_keyframe"].contains(key)) << key;
+  }
+  const std::vector<std::string> csv = test::read_lines(out / "loops.csv");
+  ASSERT_GE(csv.size(), 2u);
+  EXPECT_EQ(csv[0].rfind("query,match,session,r00,r01,r02,tx,", 0), 0u) << csv[0];
+  EXPECT_NE(csv[0].find(",overlap,rmse,accepted,"), std::string::npos);
+  EXPECT_NE(csv[0].find(",true,"), std::string::npos);
+  for (const char* f : {"trajectory.svg", "map.db", "pts_closed.txt"}) {
+    EXPECT_TRUE(test::fs::exists(out / f)) << f;
+  }
+
+  // The library, streaming the same files, gives the same corrected poses.
+  const path s = drives() / "summer";
+  const std::vector<KeyframePose> poses = io::read_sodso_poses((s / "poses_history_file.txt").string());
+  const std::vector<IdPoint> points = io::read_sodso_points((s / "pts_history_file.txt").string());
+  closure::LoopCloser closer(closure::LoopCloserConfig::make(Method::ScanContext));
+  std::size_t next = 0;
+  for (const KeyframePose& k : poses) {
+    const std::size_t first = next;
+    while (next < points.size() && points[next].id <= k.id) ++next;
+    closer.add_keyframe(k, points.data() + first, next - first);
+  }
+  closer.finish();
+  const std::vector<KeyframePose> online = closer.corrected_poses();
+  const std::vector<KeyframePose> written = io::read_sodso_poses((out / "poses_closed.txt").string());
+  ASSERT_EQ(online.size(), written.size());
+  for (std::size_t i = 0; i < online.size(); ++i) {
+    EXPECT_EQ(online[i].id, written[i].id);
+    EXPECT_LT((online[i].T_cam_world - written[i].T_cam_world).cwiseAbs().maxCoeff(), 1e-6);
+  }
+  EXPECT_EQ(test::read_lines(out / "trajectory_closed.txt").size(), poses.size());
+}
+
+TEST(CliClose, ASecondSessionIsPlacedInTheSavedMap) {
+  const path map_out = drives() / "map";
+  ASSERT_EQ(test::run(close_args("summer", map_out)).code, 0);
+  const path out = drives() / "winter_out";
+  const test::CliResult r =
+      test::run(close_args("winter", out) + " --map " + (map_out / "map.db").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("in the map's frame from keyframe"), std::string::npos) << r.output;
+  const nlohmann::json m = nlohmann::json::parse(test::file_bytes(out / "metrics.json"));
+  EXPECT_TRUE(m["anchored_to_map"].get<bool>());
+  EXPECT_EQ(m["session"].get<int>(), 1);
+  EXPECT_EQ(m["loops"]["false_accepted"].get<int>(), 0);
+  EXPECT_GT(m["map_places"].get<int>(), 250);  // both sessions
+}
+
+TEST(CliClose, BadInputIsRefusedWithNothingWritten) {
+  const path map_out = drives() / "map_for_errors";
+  ASSERT_EQ(test::run(close_args("summer", map_out)).code, 0);
+  const path dir = test::temp_dir("close_bad_" + std::to_string(getpid()));
+  // A truncated map.
+  const std::string map = test::file_bytes(map_out / "map.db");
+  test::write(dir / "cut.db", map.substr(0, map.size() / 2));
+  test::CliResult r = test::run(close_args("winter", dir / "o1") + " --map " + (dir / "cut.db").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("cut.db"), std::string::npos) << r.output;
+  // A map of another method.
+  r = test::run(close_args("winter", dir / "o2") + " --method m2dp --map " + (map_out / "map.db").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("expected m2dp"), std::string::npos) << r.output;
+  // A pose with NaN.
+  std::vector<std::string> lines = test::read_lines(drives() / "summer" / "poses_history_file.txt");
+  lines[5] = "10 1 0 0 nan 0 1 0 0 0 0 1 0";
+  std::string text;
+  for (const std::string& l : lines) text += l + "\n";
+  test::write(dir / "poses.txt", text);
+  r = test::run("close --quiet --poses " + (dir / "poses.txt").string() + " --points " +
+                (drives() / "summer" / "pts_history_file.txt").string() + " --out " +
+                (dir / "o3").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("poses.txt:6"), std::string::npos) << r.output;
+  for (const char* o : {"o1", "o2", "o3"}) EXPECT_FALSE(test::fs::exists(dir / o)) << o;
+  EXPECT_FALSE(test::has_temp_files(dir));
+}
+
+}  // namespace
+}  // namespace loopscan

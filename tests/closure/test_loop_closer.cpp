@@ -1,0 +1,184 @@
+// The online loop closer on simulated drives with a drifting VO: true loops only, a trajectory
+// pulled back towards the ground truth, recognition identical to the Recognizer's, a second
+// session placed in a saved map.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "loopscan/closure/loop_closer.hpp"
+#include "loopscan/eval/loop_metrics.hpp"
+#include "loopscan/sim/trajectory.hpp"
+#include "loopscan/sim/vo_simulator.hpp"
+#include "loopscan/sim/world.hpp"
+
+namespace loopscan {
+namespace {
+
+struct Drive {
+  sim::Trajectory route;
+  sim::VoOutput vo;
+};
+
+// The built-in short route (a block and its first street again) with 1 % VO drift.
+Drive drive(sim::Season season, unsigned session) {
+  Drive d{sim::make_builtin_trajectory("short"), {}};
+  sim::WorldConfig wc;
+  wc.seed = 1;
+  const sim::World world = sim::World::build(d.route.centres(), wc);
+  sim::Conditions conditions = sim::Conditions::for_season(season);
+  conditions.session_seed = session;
+  sim::VoSimConfig vo;
+  vo.seed = conditions.noise_seed(wc.seed);
+  vo.drift_translation_per_m = 0.02;
+  vo.drift_rotation_deg_per_m = 0.06;
+  d.vo = sim::simulate_vo(d.route, sim::select_keyframes(d.route), world, conditions,
+                          sim::StereoCamera{}, vo);
+  return d;
+}
+
+const Drive& summer() {
+  static const Drive d = drive(sim::Season::Summer, 1);
+  return d;
+}
+
+template <typename PerKeyframe>
+void stream(const Drive& d, PerKeyframe&& f) {
+  std::size_t next = 0;
+  for (const KeyframePose& k : d.vo.poses) {
+    const std::size_t first = next;
+    while (next < d.vo.points.size() && d.vo.points[next].id <= k.id) ++next;
+    f(k, d.vo.points.data() + first, next - first);
+  }
+}
+
+std::vector<Eigen::Vector3d> centres(const std::vector<KeyframePose>& poses) {
+  std::vector<Eigen::Vector3d> out;
+  for (const KeyframePose& k : poses) {
+    out.push_back(-k.T_cam_world.leftCols<3>().transpose() * k.T_cam_world.col(3));
+  }
+  return out;
+}
+
+TEST(LoopCloser, ClosesADriftedBlockWithTrueLoopsOnly) {
+  const Drive& d = summer();
+  closure::LoopCloser closer(closure::LoopCloserConfig::make(Method::ScanContext));
+  stream(d, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+    closer.add_keyframe(k, p, n);
+  });
+  closer.finish();
+  std::vector<Eigen::Vector3d> gt;
+  for (const KeyframePose& k : d.vo.poses) gt.push_back(d.route.T_world_cam[std::size_t(k.id)].translation());
+  const double before = eval::aligned_rmse(gt, centres(d.vo.poses));
+  const double after = eval::aligned_rmse(gt, centres(closer.corrected_poses()));
+  int accepted = 0;
+  for (const closure::Loop& l : closer.loops()) {
+    if (!l.accepted()) continue;
+    ++accepted;
+    const eval::LoopTruth t = eval::loop_truth(l.T_query_match, d.route.T_world_cam[std::size_t(l.query)],
+                                               d.route.T_world_cam[std::size_t(l.match.keyframe)]);
+    EXPECT_TRUE(t.is_true) << l.query << " -> " << l.match.keyframe << ": " << t.gt_distance_m << " m";
+    EXPECT_LT(t.translation_error_m, 0.6);
+    EXPECT_LT(t.rotation_error_deg, 2.0);
+  }
+  EXPECT_GE(accepted, 3);
+  EXPECT_GT(before, 0.4);  // the drift is real
+  EXPECT_LT(after, before / 2) << before << " -> " << after;
+  const closure::StageTimes& times = closer.times();
+  EXPECT_EQ(times.keyframes, int(d.vo.poses.size()));
+  EXPECT_EQ(closer.database().size(), std::size_t(times.described));
+  EXPECT_EQ(closer.place_clouds().size(), closer.database().size());
+}
+
+TEST(LoopCloser, RecognitionIsTheRecognizersAndRunsAreRepeatable) {
+  const Drive& d = summer();
+  const closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  closure::LoopCloser a(config), b(config);
+  RecognizerConfig rc = config.recognition;
+  rc.k = config.candidates;
+  Recognizer recognizer(rc);
+  stream(d, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+    const closure::KeyframeClosure ra = a.add_keyframe(k, p, n);
+    const closure::KeyframeClosure rb = b.add_keyframe(k, p, n);
+    const KeyframeResult r = recognizer.add_keyframe(k, p, n);
+    ASSERT_EQ(ra.described, r.described);
+    ASSERT_EQ(ra.candidates.size(), r.matches.size());
+    for (std::size_t i = 0; i < r.matches.size(); ++i) {
+      EXPECT_TRUE(ra.candidates[i].place == r.matches[i].place);
+      EXPECT_EQ(ra.candidates[i].distance, r.matches[i].distance);
+    }
+    ASSERT_EQ(ra.verified.size(), rb.verified.size());
+    for (std::size_t i = 0; i < ra.verified.size(); ++i) {
+      EXPECT_EQ(ra.verified[i].verdict, rb.verified[i].verdict);
+      EXPECT_EQ(ra.verified[i].T_query_match.matrix(), rb.verified[i].T_query_match.matrix());
+    }
+  });
+  a.finish();
+  b.finish();
+  const auto pa = a.corrected_poses(), pb = b.corrected_poses();
+  ASSERT_EQ(pa.size(), pb.size());
+  for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_EQ(pa[i].T_cam_world, pb[i].T_cam_world);
+}
+
+TEST(LoopCloser, ASecondSessionJoinsTheSavedMapAtItsFirstLoop) {
+  const Drive& map_drive = summer();
+  closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  closure::LoopCloser first(config);
+  stream(map_drive, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+    first.add_keyframe(k, p, n);
+  });
+  first.finish();
+  const std::vector<KeyframePose> map_poses = first.corrected_poses();
+
+  const Drive winter = drive(sim::Season::Winter, 9);
+  config.recognition.session = 1;
+  closure::LoopCloser second(config, first.corrected_map(), first.place_clouds());
+  EXPECT_FALSE(second.anchored());
+  stream(winter, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+    second.add_keyframe(k, p, n);
+  });
+  second.finish();
+  ASSERT_TRUE(second.anchored());
+  EXPECT_LT(second.anchored_at(), 80);  // early in a 174-keyframe drive
+  // In one frame: every accepted cross-session loop joins two keyframes that are as far apart
+  // in the map frame as the ground truth says.
+  const std::vector<KeyframePose> poses = second.corrected_poses();
+  std::unordered_map<int, Eigen::Vector3d> mine, theirs;
+  for (std::size_t i = 0; i < poses.size(); ++i) mine[poses[i].id] = centres({poses[i]})[0];
+  for (std::size_t i = 0; i < map_poses.size(); ++i) theirs[map_poses[i].id] = centres({map_poses[i]})[0];
+  int cross = 0;
+  for (const closure::Loop& l : second.loops()) {
+    if (!l.accepted() || l.match.session != 0) continue;
+    ++cross;
+    const double gt = (winter.route.T_world_cam[std::size_t(l.query)].translation() -
+                       map_drive.route.T_world_cam[std::size_t(l.match.keyframe)].translation()).norm();
+    EXPECT_LT(gt, 10.0);
+    EXPECT_NEAR((mine[l.query] - theirs[l.match.keyframe]).norm(), gt, 1.0) << l.query;
+  }
+  EXPECT_GE(cross, 20);
+  // A map without clouds, of another method, or holding this session already is refused.
+  EXPECT_THROW(closure::LoopCloser(config, first.corrected_map(), {}), std::invalid_argument);
+  closure::LoopCloserConfig m2dp = closure::LoopCloserConfig::make(Method::M2dp);
+  m2dp.recognition.session = 1;
+  EXPECT_THROW(closure::LoopCloser(m2dp, first.corrected_map(), first.place_clouds()),
+               std::invalid_argument);
+  config.recognition.session = 0;
+  EXPECT_THROW(closure::LoopCloser(config, first.corrected_map(), first.place_clouds()),
+               std::invalid_argument);
+}
+
+TEST(LoopCloser, BadKeyframesAreRefused) {
+  closure::LoopCloser closer(closure::LoopCloserConfig::make(Method::ScanContext));
+  KeyframePose k;
+  k.id = 4;
+  closer.add_keyframe(k, nullptr, 0);
+  EXPECT_THROW(closer.add_keyframe(k, nullptr, 0), std::invalid_argument);  // the same id again
+  k.id = 5;
+  k.T_cam_world(0, 3) = std::nan("");
+  EXPECT_THROW(closer.add_keyframe(k, nullptr, 0), std::invalid_argument);
+  closure::LoopCloserConfig bad = closure::LoopCloserConfig::make(Method::ScanContext);
+  bad.consistency.required = 0;
+  EXPECT_THROW(closure::LoopCloser{bad}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace loopscan
