@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "loopscan/eval/loop_metrics.hpp"
 #include "loopscan/eval/odometry_metrics.hpp"
@@ -162,6 +163,8 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
                                      const std::optional<GroundTruth>& map_gt,
                                      double true_within_m) {
   io::save_database(run.map, dir + "/map.db", &run.clouds);
+  std::error_code ec;
+  const double map_bytes = double(std::filesystem::file_size(dir + "/map.db", ec));
   io::write_sodso_poses(dir + "/poses_closed.txt", run.closed);
   std::vector<Eigen::Matrix<double, 3, 4>> kitti;
   for (const KeyframePose& k : run.closed) kitti.push_back(world_cam(k).matrix().topRows<3>());
@@ -237,7 +240,8 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
       {"session", run.session},
       {"anchored_to_map", run.anchored},
       {"anchored_at_keyframe", run.anchored_at},
-      {"map_places", run.map.size()}};
+      {"map_places", run.map.size()},
+      {"map_bytes_per_place", run.map.size() > 0 && !ec ? map_bytes / double(run.map.size()) : 0.0}};
   if (gt) {
     std::vector<Eigen::Vector3d> ref;
     for (const KeyframePose& k : run.input) ref.push_back(gt->positions[std::size_t(k.id)]);

@@ -140,7 +140,7 @@ TEST(Icp, ScoreMatchesBruteForceNearestNeighbours) {
   EXPECT_NEAR(r.overlap, double(inliers) / source.points.size(), 1e-12);
 }
 
-TEST(PlaceCloud, OnePointPerVoxelInsideItsVoxelWhateverTheOrder) {
+TEST(PlaceCloud, OnePointPerVoxelAtItsCentroidWhateverTheOrder) {
   Points3f pts = test::street_scene(3);
   pts.push_back(Eigen::Vector3f(std::nanf(""), 0, 0));
   pts.push_back(Eigen::Vector3f(1e30f, 0, 0));  // far, but no overflow
@@ -159,11 +159,32 @@ TEST(PlaceCloud, OnePointPerVoxelInsideItsVoxelWhateverTheOrder) {
                             long(std::floor(c.z() / voxel))});
   }
   EXPECT_EQ(inside, voxels.size());
+  // Brute-force centroids of a few voxels.
+  for (std::size_t i = 0; i < cloud.size(); i += 97) {
+    const Eigen::Vector3f& c = cloud[i];
+    const auto cell = [&](const Eigen::Vector3f& p) {
+      return std::make_tuple(long(std::floor(p.x() / voxel)), long(std::floor(p.y() / voxel)),
+                             long(std::floor(p.z() / voxel)));
+    };
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (const Eigen::Vector3f& p : pts) {
+      if (p.allFinite() && cell(p) == cell(c)) sum += p.cast<double>(), ++n;
+    }
+    ASSERT_GT(n, 0);
+    EXPECT_LT((sum / n - c.cast<double>()).norm(), 1e-4);
+  }
+  // Another input order: the same voxels (in another order).
   Points3f shuffled = pts;
   std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(4));
-  const Points3f again = closure::voxel_downsample(shuffled, voxel);
+  Points3f again = closure::voxel_downsample(shuffled, voxel), sorted = cloud;
+  const auto less = [](const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+    return std::make_tuple(a.x(), a.y(), a.z()) < std::make_tuple(b.x(), b.y(), b.z());
+  };
   ASSERT_EQ(again.size(), cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_LT((again[i] - cloud[i]).norm(), 1e-4f);
+  std::sort(again.begin(), again.end(), less);
+  std::sort(sorted.begin(), sorted.end(), less);
+  for (std::size_t i = 0; i < cloud.size(); ++i) EXPECT_LT((again[i] - sorted[i]).norm(), 1e-4f);
   closure::CloudConfig capped;
   capped.max_points = 500;
   EXPECT_EQ(closure::voxel_cloud(pts, capped).size(), 500u);

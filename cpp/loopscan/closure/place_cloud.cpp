@@ -9,11 +9,6 @@
 namespace loopscan::closure {
 namespace {
 
-struct VoxelPoint {
-  std::uint64_t key;
-  std::uint32_t index;
-};
-
 // 21 bits a coordinate: +-2^20 voxels, beyond any range validate() admits (farther cells are
 // clamped to the border, before the cast, so that no value overflows).
 std::uint64_t voxel_key(const Eigen::Vector3f& p, double inv_voxel) {
@@ -37,26 +32,31 @@ void validate(const CloudConfig& c) {
 }
 
 Points3f voxel_downsample(const Points3f& points, double voxel_m) {
+  // Open addressing on the voxel key; voxels come out in the order of their first point.
   const double inv = 1.0 / voxel_m;
-  std::vector<VoxelPoint> keyed;
-  keyed.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (!points[i].allFinite()) continue;
-    keyed.push_back({voxel_key(points[i], inv), static_cast<std::uint32_t>(i)});
-  }
-  std::sort(keyed.begin(), keyed.end(), [](const VoxelPoint& a, const VoxelPoint& b) {
-    return a.key != b.key ? a.key < b.key : a.index < b.index;
-  });
-  Points3f out;
-  for (std::size_t i = 0; i < keyed.size();) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    std::size_t j = i;
-    for (; j < keyed.size() && keyed[j].key == keyed[i].key; ++j) {
-      sum += points[keyed[j].index].cast<double>();
+  std::size_t capacity = 16;
+  while (capacity < 2 * points.size()) capacity *= 2;
+  constexpr std::uint64_t kEmpty = ~std::uint64_t(0);
+  std::vector<std::uint64_t> keys(capacity, kEmpty);
+  std::vector<std::uint32_t> slot_voxel(capacity);
+  std::vector<Eigen::Vector3d> sums;
+  std::vector<std::uint32_t> counts;
+  for (const Eigen::Vector3f& p : points) {
+    if (!p.allFinite()) continue;
+    const std::uint64_t key = voxel_key(p, inv);
+    std::size_t h = std::size_t((key * 0x9E3779B97F4A7C15ull) >> 20) & (capacity - 1);
+    while (keys[h] != kEmpty && keys[h] != key) h = (h + 1) & (capacity - 1);
+    if (keys[h] == kEmpty) {
+      keys[h] = key;
+      slot_voxel[h] = static_cast<std::uint32_t>(sums.size());
+      sums.push_back(Eigen::Vector3d::Zero());
+      counts.push_back(0);
     }
-    out.push_back((sum / double(j - i)).cast<float>());
-    i = j;
+    sums[slot_voxel[h]] += p.cast<double>();
+    ++counts[slot_voxel[h]];
   }
+  Points3f out(sums.size());
+  for (std::size_t i = 0; i < sums.size(); ++i) out[i] = (sums[i] / double(counts[i])).cast<float>();
   return out;
 }
 

@@ -21,8 +21,8 @@ struct CloudConfig {
 // Throws std::invalid_argument naming the first field out of its range.
 void validate(const CloudConfig& config);
 
-// Deterministic: the output is ordered by voxel (not by input order), so that equal sets of
-// points give equal clouds. Non-finite points are skipped.
+// One point (the centroid) per occupied voxel, in the order of each voxel's first point
+// (deterministic). Non-finite points are skipped.
 Points3f voxel_downsample(const Points3f& points, double voxel_m);
 
 // voxel_downsample, the range cut and the count cap of `config`.

@@ -26,7 +26,7 @@ struct TargetCloud::Index {
   PointsAdaptor adaptor;
   Tree tree;
   explicit Index(const Points3f* points)
-      : adaptor{points}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
+      : adaptor{points}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(24)) {
     tree.buildIndex();
   }
 };
