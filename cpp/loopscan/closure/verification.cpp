@@ -75,12 +75,26 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
   const Points3f subset = every_nth(place.points, stride);
   const std::size_t subset_structure = (place.structure + stride - 1) / stride;
   std::vector<IcpResult> screened;
-  std::size_t b = 0;
-  for (std::size_t i = 0; i < starts.size(); ++i) {
-    screened.push_back(align_point_to_plane(subset, query, starts[i], screen, subset_structure));
+  for (const Eigen::Isometry3d& start : starts) {
+    screened.push_back(align_point_to_plane(subset, query, start, screen, subset_structure));
     loop.iterations += screened.back().iterations;
+  }
+  // The best start, and the best one that converged elsewhere (a street looks much like its
+  // mirror image after a coarse stage): both are refined, the better refined one wins.
+  const auto far_from = [](const IcpResult& x, const IcpResult& y) {
+    const Eigen::Isometry3d d = x.T_target_source.inverse() * y.T_target_source;
+    return d.translation().norm() > 1.0 || Eigen::AngleAxisd(d.rotation()).angle() > 10 * M_PI / 180;
+  };
+  std::size_t b = 0;
+  for (std::size_t i = 1; i < screened.size(); ++i) {
     if (screened[i].overlap > screened[b].overlap) b = i;
   }
+  std::vector<std::size_t> finalists = {b};
+  std::size_t rival = b;
+  for (std::size_t i = 0; i < screened.size(); ++i) {
+    if (far_from(screened[b], screened[i]) && (rival == b || screened[i].overlap > screened[rival].overlap)) rival = i;
+  }
+  if (rival != b && screened[rival].overlap >= config.screen_min_overlap) finalists.push_back(rival);
   IcpResult best = screened[b];
   if (best.overlap < config.screen_min_overlap) {  // clearly no match: skip the refinement
     loop.T_query_match = best.T_target_source;
@@ -88,12 +102,13 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
     loop.verdict = Verdict::LowOverlap;
     return loop;
   }
-  if (!refine.stage_distances_m.empty()) {
-    const Eigen::Isometry3d start = best.T_target_source;
-    best = align_point_to_plane(place.points, query, start, refine, place.structure);
-    loop.iterations += best.iterations;
-  } else {
-    best = score_alignment(place.points, query, best.T_target_source, config.icp, place.structure);
+  for (std::size_t k = 0; k < finalists.size(); ++k) {
+    const Eigen::Isometry3d start = screened[finalists[k]].T_target_source;
+    IcpResult r = refine.stage_distances_m.empty()
+                      ? score_alignment(place.points, query, start, config.icp, place.structure)
+                      : align_point_to_plane(place.points, query, start, refine, place.structure);
+    loop.iterations += r.iterations;
+    if (k == 0 || r.overlap > best.overlap) best = r;
   }
   loop.T_query_match = best.T_target_source;
   loop.overlap = best.overlap;

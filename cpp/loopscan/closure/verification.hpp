@@ -45,7 +45,8 @@ struct VerifyConfig {
   double min_overlap = 0.45;
   // Starts: each yaw guess at the query's position and this far ahead / behind it (a place the
   // descriptor matched a few keyframes off). Every start gets the first ICP stage on the
-  // first stage's stride of the points; the best is refined by the other stages.
+  // first stage's stride of the points; the best one, and the best that converged elsewhere
+  // (over 1 m or 10 degrees away), are refined by the other stages; the better one is judged.
   double along_track_seed_m = 4.0;
   int screen_iterations = 6;
   double screen_min_overlap = 0.25;  // below this after screening: refused without refining
