@@ -16,5 +16,6 @@ void add_vo_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_vocab_command(CLI::App& app);
 void add_close_command(CLI::App& app);
+void add_slam_command(CLI::App& app);
 
 }  // namespace loopscan::cli

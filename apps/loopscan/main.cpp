@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   loopscan::cli::add_run_command(app);
   loopscan::cli::add_vocab_command(app);
   loopscan::cli::add_close_command(app);
+  loopscan::cli::add_slam_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

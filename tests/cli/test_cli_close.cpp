@@ -125,5 +125,25 @@ TEST(CliClose, BadInputIsRefusedWithNothingWritten) {
   EXPECT_FALSE(test::has_temp_files(dir));
 }
 
+TEST(CliSlam, RunsTheVoThenClosesLoopsOnRealKittiImages) {
+  const path seq = path(LOOPSCAN_SHARED_DIR) / "data/real/kitti06-000000-000050";
+  if (!test::fs::exists(seq / "calib.txt")) GTEST_SKIP() << "needs " << seq << " (../shared)";
+  const path out = test::temp_dir("slam_" + std::to_string(getpid())) / "out";
+  const test::CliResult r = test::run("slam --quiet --kitti " + seq.string() + " --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "trajectory.txt", "vo.json",
+                        "poses_closed.txt", "trajectory_closed.txt", "loops.csv", "metrics.json",
+                        "trajectory.svg", "map.db"}) {
+    EXPECT_TRUE(test::fs::exists(out / f)) << f;
+  }
+  // 51 frames driving straight: no revisit, so no loop, and the keyframes keep their poses.
+  const nlohmann::json m = nlohmann::json::parse(test::file_bytes(out / "metrics.json"));
+  EXPECT_EQ(m["loops"]["accepted"].get<int>(), 0);
+  EXPECT_NEAR(m["ate_after_m"].get<double>(), m["ate_before_m"].get<double>(), 1e-6);
+  EXPECT_LT(m["ate_after_m"].get<double>(), 0.2);
+  EXPECT_EQ(io::read_sodso_poses((out / "poses_closed.txt").string()).size(),
+            io::read_sodso_poses((out / "poses_history_file.txt").string()).size());
+}
+
 }  // namespace
 }  // namespace loopscan
