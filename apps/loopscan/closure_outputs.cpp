@@ -1,5 +1,7 @@
 #include "closure_outputs.hpp"
 
+#include "closure_report.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,7 +16,6 @@
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/text_file_writer.hpp"
 #include "loopscan/io/vo_files.hpp"
-#include "loopscan/report/plot.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -40,59 +41,7 @@ Eigen::Isometry3d gt_pose(const GroundTruth& gt, int id) {
 
 double mean_ms(double total, int count) { return count > 0 ? total / count : 0.0; }
 
-// Trajectories before and after, aligned to the ground truth (or the closed one to the input
-// frame without it); accepted loops as segments, false ones in red.
-std::string trajectory_figure(const ClosureRun& run, const std::optional<GroundTruth>& gt,
-                              const std::vector<char>& loop_true) {
-  const std::vector<Eigen::Vector3d> before = positions(run.input), after = positions(run.closed);
-  std::vector<Eigen::Vector3d> reference = before;
-  if (gt) {
-    reference.clear();
-    for (const KeyframePose& k : run.input) reference.push_back(gt->positions[std::size_t(k.id)]);
-  }
-  const Eigen::Isometry3d A = eval::rigid_alignment(reference, before);
-  const Eigen::Isometry3d B = eval::rigid_alignment(reference, after);
-  // Top view: the two axes of largest spread of the reference.
-  Eigen::Vector3d lo = reference.empty() ? Eigen::Vector3d::Zero() : reference[0], hi = lo;
-  for (const Eigen::Vector3d& p : reference) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Eigen::Vector3d spread = hi - lo;
-  int ax = 0, az = 2;
-  if (spread[1] > spread[0] && spread[1] > spread[2]) ax = 1;  // e.g. RobotCar's north-east-down
-  if (ax == 1 || spread[0] < spread[2]) az = ax == 0 ? 2 : (spread[0] > spread[2] ? 0 : 2);
-  const auto series = [&](const std::string& name, const std::vector<Eigen::Vector3d>& p,
-                          const Eigen::Isometry3d& T, const std::string& color) {
-    report::Series s{name, {}, {}, color};
-    for (const Eigen::Vector3d& v : p) {
-      const Eigen::Vector3d w = T * v;
-      s.x.push_back(w[ax]);
-      s.y.push_back(w[az]);
-    }
-    return s;
-  };
-  std::vector<report::Series> all;
-  if (gt) all.push_back(series("ground truth", reference, Eigen::Isometry3d::Identity(), "#222222"));
-  all.push_back(series("VO (before)", before, A, "#999999"));
-  all.push_back(series("closed (after)", after, B, "#1f77b4"));
-  std::unordered_map<int, std::size_t> at;
-  for (std::size_t i = 0; i < run.closed.size(); ++i) at[run.closed[i].id] = i;
-  report::Series good{"accepted loops", {}, {}, "#2ca02c"}, bad{"false loops", {}, {}, "#d62728"};
-  for (std::size_t i = 0; i < run.loops.size(); ++i) {
-    const closure::Loop& l = run.loops[i];
-    if (!l.accepted() || !at.count(l.match.keyframe)) continue;
-    report::Series& s = loop_true.empty() || loop_true[i] ? good : bad;
-    for (int id : {l.query, l.match.keyframe}) {
-      const Eigen::Vector3d w = B * after[at[id]];
-      s.x.push_back(w[ax]);
-      s.y.push_back(w[az]);
-    }
-    s.x.push_back(NAN);
-    s.y.push_back(NAN);
-  }
-  if (!good.x.empty()) all.push_back(good);
-  if (!bad.x.empty()) all.push_back(bad);
-  const char* axis[] = {"x [m]", "y [m]", "z [m]"};
-  return report::map_plot_svg(all, "Trajectory before and after loop closing", axis[ax], axis[az]);
-}
+
 
 }  // namespace
 
@@ -281,9 +230,21 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
                                 {"rotation_deg_per_100m", ka.rotation_deg_per_100m}};
     }
   }
-  io::write_file_atomic(dir + "/trajectory.svg", trajectory_figure(run, gt, loop_true));
+  const std::string figure = closure_trajectory_svg(run, gt, loop_true);
+  io::write_file_atomic(dir + "/trajectory.svg", figure);
   io::write_file_atomic(dir + "/metrics.json", m.dump(1) + "\n");
+  m["figure_svg"] = figure;
   return m;
+}
+
+nlohmann::json close_vo_run(const std::string& dir, const std::vector<KeyframePose>& poses,
+                            const std::vector<IdPoint>& points, const std::vector<int>& resets,
+                            const std::optional<GroundTruth>& gt, Mode mode) {
+  const closure::LoopCloserConfig config =
+      closure::LoopCloserConfig::make(Method::ScanContext, mode);
+  std::filesystem::create_directories(dir);
+  return write_closure_outputs(dir, run_closer(config, poses, points, resets, false), config, gt,
+                               {}, 10.0);
 }
 
 }  // namespace loopscan::cli

@@ -57,4 +57,10 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
                                      const std::optional<GroundTruth>& map_gt,
                                      double true_within_m);
 
+// `run`'s loop-closing step: Scan Context in `mode` over the VO's keyframes, files into `dir`;
+// returns metrics.json's content, with the trajectory figure's SVG under "figure_svg".
+nlohmann::json close_vo_run(const std::string& dir, const std::vector<KeyframePose>& poses,
+                            const std::vector<IdPoint>& points, const std::vector<int>& resets,
+                            const std::optional<GroundTruth>& gt, Mode mode);
+
 }  // namespace loopscan::cli

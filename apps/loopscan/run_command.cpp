@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "closure_outputs.hpp"
+#include "closure_report.hpp"
 #include "commands.hpp"
 #include "evaluation_outputs.hpp"
 #include "image_commands.hpp"
@@ -182,9 +184,17 @@ void run_all(const RunArgs& a) {
     runs.push_back(std::move(r));
   }
 
-  std::printf("[3/3] report\n\n%-8s %8s %8s %8s %9s %7s %11s %11s %10s\n", "method", "AUC",
+  std::printf("[3/4] loop closing (Scan Context, verified, pose graph)\n");
+  std::optional<GroundTruth> gt;
+  if (!vo.gt_path.empty()) gt = read_ground_truth(vo.gt_path, "kitti", vo.run.keyframe_poses);
+  nlohmann::json closing = close_vo_run(a.out + "/closure", vo.run.keyframe_poses, vo.run.points,
+                                        vo.run.reset_frames, gt, mode);
+  const std::string closing_svg = closing["figure_svg"].get<std::string>();
+  closing.erase("figure_svg");
+  std::printf("[4/4] report\n\n%-8s %8s %8s %8s %9s %7s %11s %11s %10s\n", "method", "AUC",
               "R@100P", "F1max", "GT loops", "places", "prepare ms", "describe ms", "query ms");
-  nlohmann::json summary = {{"vo", vo.summary}, {"methods", nlohmann::json::array()}};
+  nlohmann::json summary = {
+      {"vo", vo.summary}, {"methods", nlohmann::json::array()}, {"closure", closing}};
   report::HtmlPage page;
   page.title = "loopscan run: " + a.vo.kitti;
   page.paragraphs.push_back(
@@ -241,11 +251,18 @@ void run_all(const RunArgs& a) {
   }
   page.tables.push_back(places_table);
   page.tables.push_back(times);
+  page.tables.push_back(closing_table(closing));
   page.figures.push_back(trajectory_figure(vo, gt_by_frame));
+  page.figures.push_back({"Loop closing: keyframes before and after, accepted loops", closing_svg});
   if (!curves.empty())
     page.figures.push_back({"Precision-recall", report::pr_curve_svg(curves, "Precision-recall")});
   io::write_file_atomic(a.out + "/summary.json", summary.dump(1) + "\n");
   io::write_file_atomic(a.out + "/report.html", report::render_html(page));
+  std::printf("\nloop closing: %d loops accepted", closing["loops"]["accepted"].get<int>());
+  if (closing.contains("ate_after_m")) {
+    std::printf(", keyframe ATE %.3f m -> %.3f m", closing["ate_before_m"].get<double>(),
+                closing["ate_after_m"].get<double>());
+  }
   std::printf("\n-> %s/report.html\n", shown(a.out).c_str());
 }
 

@@ -1,0 +1,100 @@
+#include "closure_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <unordered_map>
+
+#include "loopscan/eval/loop_metrics.hpp"
+#include "loopscan/report/plot.hpp"
+
+namespace loopscan::cli {
+namespace {
+
+std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses) {
+  std::vector<Eigen::Vector3d> out;
+  for (const KeyframePose& k : poses) {
+    out.push_back(-k.T_cam_world.leftCols<3>().transpose() * k.T_cam_world.col(3));
+  }
+  return out;
+}
+
+std::string format(const char* f, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+}  // namespace
+
+// Trajectories before and after, aligned to the ground truth (or the closed one to the input
+// frame without it); accepted loops as segments, false ones in red.
+std::string closure_trajectory_svg(const ClosureRun& run, const std::optional<GroundTruth>& gt,
+                              const std::vector<char>& loop_true) {
+  const std::vector<Eigen::Vector3d> before = positions(run.input), after = positions(run.closed);
+  std::vector<Eigen::Vector3d> reference = before;
+  if (gt) {
+    reference.clear();
+    for (const KeyframePose& k : run.input) reference.push_back(gt->positions[std::size_t(k.id)]);
+  }
+  const Eigen::Isometry3d A = eval::rigid_alignment(reference, before);
+  const Eigen::Isometry3d B = eval::rigid_alignment(reference, after);
+  // Top view: the two axes of largest spread of the reference.
+  Eigen::Vector3d lo = reference.empty() ? Eigen::Vector3d::Zero() : reference[0], hi = lo;
+  for (const Eigen::Vector3d& p : reference) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Eigen::Vector3d spread = hi - lo;
+  int ax = 0, az = 2;
+  if (spread[1] > spread[0] && spread[1] > spread[2]) ax = 1;  // e.g. RobotCar's north-east-down
+  if (ax == 1 || spread[0] < spread[2]) az = ax == 0 ? 2 : (spread[0] > spread[2] ? 0 : 2);
+  const auto series = [&](const std::string& name, const std::vector<Eigen::Vector3d>& p,
+                          const Eigen::Isometry3d& T, const std::string& color) {
+    report::Series s{name, {}, {}, color};
+    for (const Eigen::Vector3d& v : p) {
+      const Eigen::Vector3d w = T * v;
+      s.x.push_back(w[ax]);
+      s.y.push_back(w[az]);
+    }
+    return s;
+  };
+  std::vector<report::Series> all;
+  if (gt) all.push_back(series("ground truth", reference, Eigen::Isometry3d::Identity(), "#222222"));
+  all.push_back(series("VO (before)", before, A, "#999999"));
+  all.push_back(series("closed (after)", after, B, "#1f77b4"));
+  std::unordered_map<int, std::size_t> at;
+  for (std::size_t i = 0; i < run.closed.size(); ++i) at[run.closed[i].id] = i;
+  report::Series good{"accepted loops", {}, {}, "#2ca02c"}, bad{"false loops", {}, {}, "#d62728"};
+  for (std::size_t i = 0; i < run.loops.size(); ++i) {
+    const closure::Loop& l = run.loops[i];
+    if (!l.accepted() || !at.count(l.match.keyframe)) continue;
+    report::Series& s = loop_true.empty() || loop_true[i] ? good : bad;
+    for (int id : {l.query, l.match.keyframe}) {
+      const Eigen::Vector3d w = B * after[at[id]];
+      s.x.push_back(w[ax]);
+      s.y.push_back(w[az]);
+    }
+    s.x.push_back(NAN);
+    s.y.push_back(NAN);
+  }
+  if (!good.x.empty()) all.push_back(good);
+  if (!bad.x.empty()) all.push_back(bad);
+  const char* axis[] = {"x [m]", "y [m]", "z [m]"};
+  return report::map_plot_svg(all, "Trajectory before and after loop closing", axis[ax], axis[az]);
+}
+
+
+// `run`'s report table of the loop-closing step.
+report::Table closing_table(const nlohmann::json& m) {
+  const nlohmann::json& l = m["loops"];
+  report::Table t{"Loop closing (Scan Context; closure/ holds its files)",
+                  {"loops accepted", "false", "keyframe ATE before m", "after m", "ms per keyframe"},
+                  {}};
+  const auto value = [&](const char* key) {
+    return m.contains(key) ? format("%.3f", m[key].get<double>()) : std::string("n/a");
+  };
+  t.rows.push_back({std::to_string(l["accepted"].get<int>()),
+                    l.contains("false_accepted") ? std::to_string(l["false_accepted"].get<int>()) : "n/a",
+                    value("ate_before_m"), value("ate_after_m"),
+                    format("%.2f", m["ms_per_keyframe"]["total"].get<double>())});
+  return t;
+}
+
+}  // namespace loopscan::cli
