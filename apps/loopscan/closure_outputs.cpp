@@ -125,7 +125,7 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
   std::vector<double> t_err, r_err;
   io::TextFileWriter csv(dir + "/loops.csv");
   csv.write(std::string("query,match,session,r00,r01,r02,tx,r10,r11,r12,ty,r20,r21,r22,tz,") +
-            "overlap,rmse,accepted,verdict,distance" + (gt ? ",true,gt_distance,translation_error,"
+            "overlap,rmse,accepted,verdict,distance,constraint" + (gt ? ",true,gt_distance,translation_error,"
                                                      "rotation_error_deg" : "") + "\n");
   for (const closure::Loop& l : run.loops) {
     ++proposed;
@@ -137,8 +137,9 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 4; ++c) n += std::snprintf(line + n, sizeof line - n, ",%.9g", M(r, c));
     }
-    n += std::snprintf(line + n, sizeof line - n, ",%.4f,%.4f,%d,%s,%.6g", l.overlap, l.rmse_m,
-                       int(l.accepted()), closure::to_string(l.verdict), l.distance);
+    n += std::snprintf(line + n, sizeof line - n, ",%.4f,%.4f,%d,%s,%.6g,%.5f", l.overlap,
+                       l.rmse_m, int(l.accepted()), closure::to_string(l.verdict), l.distance,
+                       l.translation_constraint);
     if (gt) {
       const GroundTruth& other = l.match.session != run.session && map_gt ? *map_gt : *gt;
       if (l.match.keyframe < 0 || std::size_t(l.match.keyframe) >= other.positions.size()) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <unordered_map>
 
 #include "loopscan/eval/loop_metrics.hpp"
@@ -95,6 +96,45 @@ report::Table closing_table(const nlohmann::json& m) {
                     value("ate_before_m"), value("ate_after_m"),
                     format("%.2f", m["ms_per_keyframe"]["total"].get<double>())});
   return t;
+}
+
+DemoClosing close_demo_sessions(const std::string& out, const LoadedTrajectory& route,
+                                const std::vector<Session>& sessions) {
+  GroundTruth gt;
+  gt.path = "builtin:city";
+  for (const Eigen::Isometry3d& T : route.trajectory.T_world_cam) {
+    gt.poses.push_back(T.matrix().topRows<3>());
+    gt.positions.push_back(T.translation());
+  }
+  DemoClosing d;
+  d.table = {"Loop closing (Scan Context, verified by ICP, pose graph; keyframe ATE in m)",
+             {"drive", "loops accepted", "false", "ATE before", "ATE after", "ms per keyframe"},
+             {}};
+  closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  SavedMap map;
+  const char* names[2] = {"summer", "winter (in the summer map)"};
+  for (std::size_t i = 0; i < 2 && i < sessions.size(); ++i) {
+    config.recognition.session = int(i);
+    const std::string dir = out + (i == 0 ? "/closure-summer" : "/closure-winter");
+    std::filesystem::create_directories(dir);
+    ClosureRun run = run_closer(config, sessions[i].vo.poses, sessions[i].vo.points, {}, false,
+                                i == 0 ? nullptr : &map);
+    nlohmann::json m = write_closure_outputs(dir, run, config, gt, {}, 10.0);
+    d.figures.push_back({std::string("Loop closing, ") + names[i], m["figure_svg"].get<std::string>()});
+    const nlohmann::json& l = m["loops"];
+    d.table.rows.push_back({names[i], std::to_string(l["accepted"].get<int>()),
+                            std::to_string(l["false_accepted"].get<int>()),
+                            format("%.3f", m["ate_before_m"].get<double>()),
+                            format("%.3f", m["ate_after_m"].get<double>()),
+                            format("%.2f", m["ms_per_keyframe"]["total"].get<double>())});
+    d.summary += std::string(i ? "; " : "") + names[i] + " " + std::to_string(l["accepted"].get<int>()) +
+                 " loops (" + std::to_string(l["false_accepted"].get<int>()) + " false), ATE " +
+                 format("%.2f", m["ate_before_m"].get<double>()) + " -> " +
+                 format("%.2f", m["ate_after_m"].get<double>()) + " m";
+    map.places = std::move(run.map);
+    map.clouds = std::move(run.clouds);
+  }
+  return d;
 }
 
 }  // namespace loopscan::cli

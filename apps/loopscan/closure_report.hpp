@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "closure_outputs.hpp"
+#include "simulation_setup.hpp"
 #include "loopscan/report/html_page.hpp"
 
 namespace loopscan::cli {
@@ -19,5 +20,16 @@ std::string closure_trajectory_svg(const ClosureRun& run, const std::optional<Gr
 
 // `run`'s report table of the loop-closing step (metrics.json's content).
 report::Table closing_table(const nlohmann::json& metrics);
+
+struct DemoClosing {
+  report::Table table;
+  std::vector<report::Figure> figures;
+  std::string summary;  // one line for the terminal
+};
+
+// The demo's loop closing: the summer drive closed on its own (files in out/closure-summer),
+// then the winter drive against the summer map (out/closure-winter); ground truth from `route`.
+DemoClosing close_demo_sessions(const std::string& out, const LoadedTrajectory& route,
+                                const std::vector<Session>& sessions);
 
 }  // namespace loopscan::cli

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "closure_report.hpp"
 #include "commands.hpp"
 #include "demo_figures.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
@@ -32,7 +33,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 void run_demo(const DemoArgs& a) {
   const auto t_start = std::chrono::steady_clock::now();
-  std::printf("[1/5] trajectory and world ...\n");
+  std::printf("[1/6] trajectory and world ...\n");
   std::fflush(stdout);
   const LoadedTrajectory route = load_trajectory("builtin:city");
   sim::WorldConfig wc;
@@ -43,7 +44,7 @@ void run_demo(const DemoArgs& a) {
   std::vector<Session> sessions;
   const char* names[2] = {"summer", "winter"};
   for (int i = 0; i < 2; ++i) {
-    std::printf("[2/5] simulating the %s drive ... (%.0f s)\n", names[i], seconds_since(t_start));
+    std::printf("[2/6] simulating the %s drive ... (%.0f s)\n", names[i], seconds_since(t_start));
     std::fflush(stdout);
     sim::Conditions c = sim::Conditions::for_season(sim::parse_season(names[i]));
     c.session_seed = 100 + i;
@@ -56,7 +57,7 @@ void run_demo(const DemoArgs& a) {
   DemoResults results;
   results.route = &route.trajectory;
   for (Method method : {Method::ScanContext, Method::M2dp, Method::Delight}) {
-    std::printf("[3/5] describing with %s ... (%.0f s)\n", method_name(method).c_str(),
+    std::printf("[3/6] describing with %s ... (%.0f s)\n", method_name(method).c_str(),
                 seconds_since(t_start));
     std::fflush(stdout);
     MethodResult mr;
@@ -72,7 +73,7 @@ void run_demo(const DemoArgs& a) {
     }
     mr.imitate_ms = sig[0].imitate_ms;
     mr.describe_ms = sig[0].describe_ms;
-    std::printf("[4/5] evaluating %s ... (%.0f s)\n", method_name(method).c_str(),
+    std::printf("[4/6] evaluating %s ... (%.0f s)\n", method_name(method).c_str(),
                 seconds_since(t_start));
     std::fflush(stdout);
     eval::PlaceEvaluationOptions eo;
@@ -86,7 +87,11 @@ void run_demo(const DemoArgs& a) {
     results.methods.push_back(mr);
   }
 
-  std::printf("[5/5] report ... (%.0f s)\n", seconds_since(t_start));
+  std::printf("[5/6] closing loops: summer, then winter in the summer map ... (%.0f s)\n",
+              seconds_since(t_start));
+  std::fflush(stdout);
+  const DemoClosing closing = close_demo_sessions(a.out, route, sessions);
+  std::printf("[6/6] report ... (%.0f s)\n", seconds_since(t_start));
   std::printf("\n%-8s | %-26s | %-26s | %9s %9s %9s\n", "", "summer vs summer", "winter vs summer",
               "imitate", "describe", "query");
   std::printf("%-8s | %8s %8s %8s | %8s %8s %8s | %9s %9s %9s\n", "method", "AUC", "R@100P",
@@ -114,7 +119,11 @@ void run_demo(const DemoArgs& a) {
   }
   std::filesystem::create_directories(a.out + "/report");
   io::write_file_atomic(a.out + "/report/metrics.json", table.dump(1) + "\n");
-  io::write_file_atomic(a.out + "/report/index.html", report::render_html(demo_page(results)));
+  report::HtmlPage page = demo_page(results);
+  page.tables.push_back(closing.table);
+  page.figures.insert(page.figures.end(), closing.figures.begin(), closing.figures.end());
+  io::write_file_atomic(a.out + "/report/index.html", report::render_html(page));
+  std::printf("\nloop closing: %s\n", closing.summary.c_str());
   std::printf("\n%zu / %zu keyframes, %.0f points per keyframe; finished in %.0f s -> %s\n",
               sessions[0].keyframe_ids.size(), sessions[1].keyframe_ids.size(),
               sessions[0].vo.mean_points_per_keyframe, seconds_since(t_start),

@@ -14,12 +14,12 @@ namespace loopscan::closure {
 struct PoseGraphConfig {
   // Odometry standard deviations grow with the distance d between the two keyframes:
   // sigma = max(min, per_m * d). Loose on purpose: a loop that needs more than this is suspect.
-  double odometry_translation_per_m = 0.05;
+  double odometry_translation_per_m = 0.03;
   double odometry_translation_min_m = 0.02;
-  double odometry_rotation_deg_per_m = 0.1;
+  double odometry_rotation_deg_per_m = 0.06;
   double odometry_rotation_min_deg = 0.05;
-  double loop_translation_m = 0.3;  // verified stereo-VO loops: a few decimetres
-  double loop_rotation_deg = 1.0;
+  double loop_translation_m = 1.5;  // verified loops err together (a revisit is one place)
+  double loop_rotation_deg = 4.5;
   double max_loop_cost = 40.0;       // chi-square(6) at ~1e-6
   double max_loop_residual = 6.0;    // whitened norm of one loop's residual
   int max_iterations = 200;

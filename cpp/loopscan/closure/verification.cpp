@@ -57,7 +57,7 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
   }
   std::vector<Eigen::Isometry3d> starts;
   const double a = config.along_track_seed_m;
-  for (double along : {0.0, a, -a}) {
+  for (double along : {0.0, a, -a, 2 * a, -2 * a, 3 * a, -3 * a}) {
     for (double yaw : yaws) {
       Eigen::Isometry3d T = yaw_rotation(yaw);
       T.translation() = Eigen::Vector3d(0, 0, along);
