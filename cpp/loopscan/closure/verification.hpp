@@ -48,7 +48,7 @@ struct VerifyConfig {
   // first stage's stride of the points; the best one, and the best that converged elsewhere
   // (over 1 m or 10 degrees away), are refined by the other stages; the better one is judged.
   double along_track_seed_m = 4.0;
-  int screen_iterations = 6;
+  int screen_iterations = 4;
   double screen_min_overlap = 0.25;  // below this after screening: refused without refining
   double max_rmse_m = 0.45;
   double min_translation_constraint = 0.004;
