@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <set>
 
 #include "loopscan/eval/loop_metrics.hpp"
 #include "loopscan/eval/odometry_metrics.hpp"
@@ -42,6 +43,40 @@ Eigen::Isometry3d gt_pose(const GroundTruth& gt, int id) {
 double mean_ms(double total, int count) { return count > 0 ? total / count : 0.0; }
 
 
+
+struct Recall {
+  int revisits = 0, closed = 0;
+};
+
+// Described keyframes of this session with a true revisit (a place of another session, or of
+// this one added at least 100 places earlier, within `within_m`), and those of them that got
+// a true accepted loop.
+Recall revisit_recall(const ClosureRun& run, const GroundTruth& gt, const GroundTruth& map_gt,
+                      double within_m, const std::set<int>& closed) {
+  std::vector<Eigen::Vector3d> mine, others;
+  std::vector<int> mine_ids;
+  for (std::size_t i = 0; i < run.map.size(); ++i) {
+    const PlaceRef p = run.map.place(i);
+    const GroundTruth& g = p.session == run.session ? gt : map_gt;
+    if (p.keyframe < 0 || std::size_t(p.keyframe) >= g.positions.size()) continue;
+    if (p.session == run.session) {
+      mine.push_back(g.positions[std::size_t(p.keyframe)]);
+      mine_ids.push_back(p.keyframe);
+    } else {
+      others.push_back(g.positions[std::size_t(p.keyframe)]);
+    }
+  }
+  Recall r;
+  const double w2 = within_m * within_m;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    bool revisit = false;
+    for (std::size_t j = 0; j < others.size() && !revisit; ++j) revisit = (mine[i] - others[j]).squaredNorm() <= w2;
+    for (std::size_t j = 0; j + 100 <= i && !revisit; ++j) revisit = (mine[i] - mine[j]).squaredNorm() <= w2;
+    r.revisits += revisit;
+    r.closed += revisit && closed.count(mine_ids[i]);
+  }
+  return r;
+}
 
 }  // namespace
 
@@ -123,6 +158,7 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
   std::vector<char> loop_true;
   int proposed = 0, accepted = 0, true_accepted = 0;
   std::vector<double> t_err, r_err;
+  std::set<int> accepted_queries;  // with a true accepted loop
   io::TextFileWriter csv(dir + "/loops.csv");
   csv.write(std::string("query,match,session,r00,r01,r02,tx,r10,r11,r12,ty,r20,r21,r22,tz,") +
             "overlap,rmse,accepted,verdict,distance,constraint" + (gt ? ",true,gt_distance,translation_error,"
@@ -159,6 +195,7 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
       }
       loop_true.push_back(t.is_true);
       if (l.accepted()) {
+        if (t.is_true) accepted_queries.insert(l.query);
         true_accepted += t.is_true;
         if (t.is_true) t_err.push_back(t.translation_error_m), r_err.push_back(t.rotation_error_deg);
       }
@@ -202,6 +239,10 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
     m["loops"]["true_accepted"] = true_accepted;
     m["loops"]["false_accepted"] = accepted - true_accepted;
     m["loops"]["precision"] = accepted > 0 ? double(true_accepted) / accepted : 1.0;
+    const Recall r = revisit_recall(run, *gt, map_gt ? *map_gt : *gt, true_within_m, accepted_queries);
+    m["loops"]["revisit_keyframes"] = r.revisits;
+    m["loops"]["revisits_closed"] = r.closed;
+    m["loops"]["recall"] = r.revisits > 0 ? double(r.closed) / r.revisits : 0.0;
     const auto median = [](std::vector<double> v) {
       if (v.empty()) return std::nan("");
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());

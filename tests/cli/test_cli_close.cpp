@@ -47,6 +47,10 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
   EXPECT_GT(m["loops"]["accepted"].get<int>(), 0);
   EXPECT_EQ(m["loops"]["false_accepted"].get<int>(), 0);
   EXPECT_LT(m["ate_after_m"].get<double>(), m["ate_before_m"].get<double>());
+  // The short drive revisits its first street: those keyframes are the revisits, some closed.
+  EXPECT_GT(m["loops"]["revisit_keyframes"].get<int>(), 10);
+  EXPECT_GT(m["loops"]["revisits_closed"].get<int>(), 0);
+  EXPECT_LE(m["loops"]["revisits_closed"].get<int>(), m["loops"]["revisit_keyframes"].get<int>());
   for (const char* key : {"scan", "describe", "cloud", "query", "verify", "graph", "total"}) {
     EXPECT_TRUE(m["ms_per_keyframe"].contains(key)) << key;
   }

@@ -16,7 +16,7 @@ struct IcpConfig {
   // Correspondence distances, one stage each, coarse to fine (metres).
   std::vector<double> stage_distances_m = {4.0, 2.0, 1.0, 0.6};
   // Source points used per stage (every n-th): coarse stages need few.
-  std::vector<int> stage_strides = {6, 3, 2, 1};
+  std::vector<int> stage_strides = {4, 3, 2, 1};
   int max_iterations_per_stage = 12;
   double converged_translation_m = 1e-3;  // a step below both ends the stage
   double converged_rotation_rad = 1e-4;

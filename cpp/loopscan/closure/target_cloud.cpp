@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
@@ -110,11 +111,15 @@ TargetCloud& TargetCloud::operator=(TargetCloud&& o) noexcept {
 int TargetCloud::nearest(const Eigen::Vector3f& query, float max_squared_distance,
                          float* squared_distance) const {
   if (points_.empty()) return -1;
+  // The search starts with the bound as its worst distance, so the tree prunes every branch
+  // beyond it (most of the work for points without a correspondence).
   std::uint32_t id = 0;
   float d2 = 0;
-  if (index_->tree.knnSearch(query.data(), 1, &id, &d2) == 0 || d2 > max_squared_distance) {
-    return -1;
-  }
+  nanoflann::KNNResultSet<float, std::uint32_t> result(1);
+  result.init(&id, &d2);
+  d2 = std::nextafter(max_squared_distance, std::numeric_limits<float>::infinity());
+  index_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
+  if (result.size() == 0) return -1;
   if (squared_distance) *squared_distance = d2;
   return static_cast<int>(id);
 }

@@ -26,12 +26,13 @@ void validate(const VerifyConfig& c) {
       !(c.min_translation_constraint >= 0 && c.min_translation_constraint <= 1) ||
       !(c.max_translation_m > 0 && c.max_translation_m <= 1000) ||
       !(c.along_track_seed_m >= 0 && c.along_track_seed_m <= 100) || c.screen_iterations < 1 ||
+      !(c.rival_share >= 0 && c.rival_share <= 1) ||
       c.screen_iterations > 1000 || !(c.screen_min_overlap >= 0 && c.screen_min_overlap <= 1)) {
     throw std::invalid_argument(
         "verify config: min_points in [3, 2^22], min_overlap in [0, 1], max_rmse_m in (0, 100], "
         "min_translation_constraint in [0, 1], max_translation_m in (0, 1000], "
         "along_track_seed_m in [0, 100], screen_iterations in [1, 1000], screen_min_overlap in "
-        "[0, 1]");
+        "[0, 1], rival_share in [0, 1]");
   }
 }
 
@@ -94,7 +95,9 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
   for (std::size_t i = 0; i < screened.size(); ++i) {
     if (far_from(screened[b], screened[i]) && (rival == b || screened[i].overlap > screened[rival].overlap)) rival = i;
   }
-  if (rival != b && screened[rival].overlap >= config.screen_min_overlap) finalists.push_back(rival);
+  if (rival != b && screened[rival].overlap >= config.rival_share * screened[b].overlap) {
+    finalists.push_back(rival);
+  }
   IcpResult best = screened[b];
   if (best.overlap < config.screen_min_overlap) {  // clearly no match: skip the refinement
     loop.T_query_match = best.T_target_source;

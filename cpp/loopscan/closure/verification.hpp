@@ -48,8 +48,9 @@ struct VerifyConfig {
   // first stage's stride of the points; the best one, and the best that converged elsewhere
   // (over 1 m or 10 degrees away), are refined by the other stages; the better one is judged.
   double along_track_seed_m = 4.0;
-  int screen_iterations = 4;
+  int screen_iterations = 6;
   double screen_min_overlap = 0.25;  // below this after screening: refused without refining
+  double rival_share = 0.8;  // the rival is refined only if it screened this close to the best
   double max_rmse_m = 0.45;
   double min_translation_constraint = 0.004;
   double max_translation_m = 8.0;  // farther apart is not the same place
