@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_support.hpp"
+#include "support/test_support.hpp"
 #include "loopscan/closure/loop_closer.hpp"
 #include "loopscan/io/sodso.hpp"
 
@@ -130,7 +131,7 @@ TEST(CliClose, BadInputIsRefusedWithNothingWritten) {
 }
 
 TEST(CliSlam, RunsTheVoThenClosesLoopsOnRealKittiImages) {
-  const path seq = path(LOOPSCAN_SHARED_DIR) / "data/real/kitti06-000000-000050";
+  const path seq = path(test::shared_dir()) / "data/real/kitti06-000000-000050";
   if (!test::fs::exists(seq / "calib.txt")) GTEST_SKIP() << "needs " << seq << " (../shared)";
   const path out = test::temp_dir("slam_" + std::to_string(getpid())) / "out";
   const test::CliResult r = test::run("slam --quiet --kitti " + seq.string() + " --out " + out.string());
