@@ -252,7 +252,8 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
   }
   times_.verify += ms_since(t0);
   // 6. Join the map.
-  db_.add({config_.recognition.session, keyframe.id}, place, keyframe.T_cam_world);
+  db_.add({config_.recognition.session, keyframe.id}, place,
+          input_poses_[pose_index_.at(keyframe.id)].T_cam_world);  // orthonormalised
   t0 = Clock::now();
   clouds_.push_back(to_place_cloud(target));
   times_.cloud += ms_since(t0);

@@ -43,8 +43,10 @@ Eigen::Isometry3d yaw_rotation(double yaw_rad) {
 }
 
 std::vector<double> yaw_guesses(const Candidate& c) {
-  if (std::isfinite(c.yaw_rad)) return {c.yaw_rad, c.yaw_rad + M_PI};
-  return {0.0, M_PI / 2, M_PI, -M_PI / 2};
+  if (!std::isfinite(c.yaw_rad)) return {0.0, M_PI / 2, M_PI, -M_PI / 2};
+  // A mirrored Scan Context match has no proper rotation: its yaw and the reflected one.
+  if (c.mirrored) return {c.yaw_rad, c.yaw_rad + M_PI, -c.yaw_rad, M_PI - c.yaw_rad};
+  return {c.yaw_rad, c.yaw_rad + M_PI};
 }
 
 Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
