@@ -58,9 +58,8 @@ struct VerifyConfig {
 
 void validate(const VerifyConfig& config);
 
-// Initial yaws to try: the candidate's own yaw (Scan Context) and its opposite (and, for a
-// mirrored match, the reflected yaw and its opposite), or four headings when the method gives
-// none (M2DP, DELIGHT).
+// Initial yaws to try: the candidate's own yaw (Scan Context, mirrored matches included) and
+// its opposite, or four headings when the method gives none (M2DP, DELIGHT).
 std::vector<double> yaw_guesses(const Candidate& candidate);
 
 // Aligns `place` (the map place's cloud, its camera frame) onto `query` and judges it; the
