@@ -28,11 +28,6 @@ Eigen::Isometry3d world_cam(const KeyframePose& k) {
   return T.inverse();
 }
 
-std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses) {
-  std::vector<Eigen::Vector3d> out;
-  for (const KeyframePose& k : poses) out.push_back(world_cam(k).translation());
-  return out;
-}
 
 Eigen::Isometry3d gt_pose(const GroundTruth& gt, int id) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -79,6 +74,12 @@ Recall revisit_recall(const ClosureRun& run, const GroundTruth& gt, const Ground
 }
 
 }  // namespace
+
+std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses) {
+  std::vector<Eigen::Vector3d> out;
+  for (const KeyframePose& k : poses) out.push_back(world_cam(k).translation());
+  return out;
+}
 
 ClosureRun run_closer(const closure::LoopCloserConfig& config,
                       const std::vector<KeyframePose>& poses, const std::vector<IdPoint>& points,

@@ -31,6 +31,9 @@ struct SavedMap {
   std::vector<PlaceCloud> clouds;
 };
 
+// Camera centres (world frame) of world-to-camera keyframe poses.
+std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses);
+
 // Streams the keyframes and their points (points sorted by keyframe id, as SO-DSO writes them)
 // through a LoopCloser; `reset_ids`: keyframes where the VO restarted.
 // `map` (optional): a saved map this session continues (config.recognition.session must be

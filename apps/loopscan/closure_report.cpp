@@ -11,14 +11,6 @@
 namespace loopscan::cli {
 namespace {
 
-std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses) {
-  std::vector<Eigen::Vector3d> out;
-  for (const KeyframePose& k : poses) {
-    out.push_back(-k.T_cam_world.leftCols<3>().transpose() * k.T_cam_world.col(3));
-  }
-  return out;
-}
-
 std::string format(const char* f, double v) {
   char b[64];
   std::snprintf(b, sizeof b, f, v);
