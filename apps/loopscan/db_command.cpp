@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
@@ -35,10 +37,19 @@ struct QueryArgs {
   bool exact = false;
 };
 
-// Ground truth travels with the place as a pose with identity rotation at its position.
-Pose3x4 position_pose(const Eigen::Vector3d& p) {
-  Pose3x4 T = Pose3x4::Identity();
-  T.col(3) = -p;
+// Ground truth travels with the place as a world-to-camera pose at its position whose camera z
+// axis (forward) is the ground-truth heading (identity rotation when the heading is unknown).
+Pose3x4 position_pose(const Eigen::Vector3d& p, const Eigen::Vector3d& heading) {
+  Eigen::Matrix3d R_world_cam = Eigen::Matrix3d::Identity();
+  if (heading.norm() > 0.5) {
+    const Eigen::Vector3d z = heading.normalized();
+    Eigen::Vector3d x = z.unitOrthogonal();
+    if (std::abs(z.y()) < 0.9) x = Eigen::Vector3d::UnitY().cross(z).normalized();
+    R_world_cam << x, z.cross(x), z;
+  }
+  Pose3x4 T;
+  T.leftCols<3>() = R_world_cam.transpose();
+  T.col(3) = -R_world_cam.transpose() * p;
   return T;
 }
 
@@ -56,7 +67,7 @@ void run_build(const BuildArgs& a) {
     const int session = a.first_session + static_cast<int>(s);
     for (std::size_t i = 0; i < set.places.size(); ++i) {
       std::optional<Pose3x4> pose;
-      if (!set.positions.empty()) pose = position_pose(set.positions[i]);
+      if (!set.positions.empty()) pose = position_pose(set.positions[i], set.headings[i]);
       try {
         db.add({session, set.keyframe_ids[i]}, {set.places[i], set.frames[i]}, pose);
       } catch (const std::invalid_argument& e) {
@@ -125,7 +136,7 @@ void run_query(const QueryArgs& a) {
   if (!with_gt) return;
 
   // Database positions: from the poses `db build --gt` stored.
-  std::vector<Eigen::Vector3d> db_pos(db.size());
+  std::vector<Eigen::Vector3d> db_pos(db.size()), db_headings(db.size());
   std::vector<int> db_ids(db.size());
   for (std::size_t j = 0; j < db.size(); ++j) {
     const std::optional<Pose3x4> T = db.pose(j);
@@ -136,6 +147,7 @@ void run_query(const QueryArgs& a) {
                                std::to_string(j) + " has none");
     }
     db_pos[j] = -T->leftCols<3>().transpose() * T->col(3);
+    db_headings[j] = T->leftCols<3>().row(2).transpose();  // the camera z axis in the world
     db_ids[j] = db.place(j).keyframe;
   }
   eval::Protocol protocol{a.threshold_m, a.mask};
@@ -149,6 +161,8 @@ void run_query(const QueryArgs& a) {
       {"n_database", db.size()},
       {"query_ms", query_ms}};
   metrics.update(pr_metrics(pr));
+  metrics["by_direction"] = direction_metrics(eval::split_by_direction(
+      pr, queries.positions, db_pos, queries.headings, db_headings, protocol));
   const std::string title =
       method_name(db.config().method) + " database (" + (a.exact ? "exact" : "indexed") + ")";
   write_evaluation(a.out, queries.keyframe_ids, db_ids, pr, metrics, title);

@@ -24,6 +24,8 @@ struct DescribeArgs {
   ImageDescribeArgs images;  // --method gist | bow
   double range_m = 45.0;
   int threads = 1;
+  double lookahead_m = -1;  // <0: the mode's default
+  std::string frame;        // empty: the mode's default
 };
 
 void run_describe(const DescribeArgs& a) {
@@ -54,6 +56,15 @@ void run_describe(const DescribeArgs& a) {
 
   SequenceOptions options = SequenceOptions::make(method, mode, a.range_m);
   options.threads = std::max(1, a.threads);
+  if (a.lookahead_m >= 0) options.imitation.lookahead_m = a.lookahead_m;
+  if (!a.frame.empty()) {
+    const DescriptorFrame f = a.frame == "pca"      ? DescriptorFrame::Pca
+                              : a.frame == "camera" ? DescriptorFrame::Camera
+                              : a.frame == "centroid" ? DescriptorFrame::Centroid
+                                                    : DescriptorFrame::GravityPca;
+    options.descriptors.scan_context.frame = options.descriptors.m2dp.frame =
+        options.descriptors.delight.frame = f;
+  }
   if (mode == Mode::Default) {
     options.reset_ids =
         a.reset_ids.empty() ? detect_vo_resets(poses) : io::read_incoming_ids(a.reset_ids);
@@ -110,6 +121,8 @@ void add_describe_command(CLI::App& app) {
   cmd->add_option("--range", args->range_m, "imitated LiDAR range in m")
       ->check(finite_in(0.1, 1000))
       ->capture_default_str();
+  cmd->add_option("--lookahead", args->lookahead_m, "two-sided scans: metres past a keyframe");
+  cmd->add_option("--frame", args->frame, "pca | camera | gravity-pca");
   cmd->add_option("--threads", args->threads, "threads describing scans (imitation is sequential)")
       ->check(finite_in(1, kMaxThreads))
       ->capture_default_str();

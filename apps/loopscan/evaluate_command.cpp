@@ -69,6 +69,16 @@ void run_evaluate(const EvaluateArgs& a) {
       {"n_database", db.places.size()},
       {"query_ms", ev.query_ms}};
   metrics.update(pr_metrics(ev.pr));
+  const eval::DirectionSplit split = eval::split_by_direction(
+      ev.pr, queries.positions, db.positions, queries.headings, db.headings, options.protocol);
+  metrics["by_direction"] = direction_metrics(split);
+  if (fusion == Fusion::Adaptive && method != Method::Delight) {
+    const FusionWeights& w = ev.weights;
+    metrics["fusion_weights"] = {{"structure", w.structure},     {"intensity", w.intensity},
+                                 {"agreement", w.agreement},     {"chance", w.chance},
+                                 {"reliability", w.reliability}, {"structure_peak", w.structure_peak},
+                                 {"intensity_peak", w.intensity_peak}};
+  }
   const std::string title = method_name(method) + " (" + metrics["fusion"].get<std::string>() + ")";
   write_evaluation(a.out, queries.keyframe_ids, db.keyframe_ids, ev.pr, metrics, title);
   std::printf(
@@ -76,6 +86,7 @@ void run_evaluate(const EvaluateArgs& a) {
       "%.3f ms per query -> %s\n",
       title.c_str(), ev.pr.auc, ev.pr.recall_at_100_precision, ev.pr.f1_max, ev.pr.n_gt_loops,
       ev.pr.n_queries, ev.query_ms, shown(a.out).c_str());
+  print_direction_split(split);
 }
 
 }  // namespace

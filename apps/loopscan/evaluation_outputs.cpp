@@ -1,5 +1,6 @@
 #include "evaluation_outputs.hpp"
 
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
@@ -14,6 +15,24 @@ nlohmann::json pr_metrics(const eval::PrResult& pr) {
           {"f1_max", pr.f1_max},
           {"n_queries", pr.n_queries},
           {"n_gt_loops", pr.n_gt_loops}};
+}
+
+nlohmann::json direction_metrics(const eval::DirectionSplit& split) {
+  nlohmann::json out;
+  for (const auto& [name, d] : {std::pair{"same", &split.same}, {"opposite", &split.opposite}}) {
+    nlohmann::json m = pr_metrics(d->pr);
+    m["n_loops"] = d->n_loops;
+    m["top1_correct"] = d->top1_correct;
+    out[name] = m;
+  }
+  return out;
+}
+
+void print_direction_split(const eval::DirectionSplit& split) {
+  for (const auto& [name, d] : {std::pair{"same", &split.same}, {"opposite", &split.opposite}}) {
+    std::printf("  %-8s direction: AUC %.4f, recall@100%%P %.4f, top-1 correct %d of %d loops\n",
+                name, d->pr.auc, d->pr.recall_at_100_precision, d->top1_correct, d->n_loops);
+  }
 }
 
 void write_evaluation(const std::string& dir, const std::vector<int>& query_ids,

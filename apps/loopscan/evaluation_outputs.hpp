@@ -6,12 +6,18 @@
 
 #include <nlohmann/json.hpp>
 
+#include "loopscan/eval/direction_split.hpp"
 #include "loopscan/eval/precision_recall.hpp"
 
 namespace loopscan::cli {
 
 // auc, recall_at_100_precision, f1_max, n_queries, n_gt_loops of a PR result.
 nlohmann::json pr_metrics(const eval::PrResult& pr);
+
+// {"same": {...}, "opposite": {...}}: pr_metrics plus n_loops and top1_correct per class.
+nlohmann::json direction_metrics(const eval::DirectionSplit& split);
+// One line per class on stdout.
+void print_direction_split(const eval::DirectionSplit& split);
 
 // query_ids / db_ids: keyframe ids behind the match indices of `pr`.
 void write_evaluation(const std::string& dir, const std::vector<int>& query_ids,

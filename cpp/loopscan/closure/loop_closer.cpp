@@ -30,6 +30,11 @@ LoopCloserConfig LoopCloserConfig::make(Method method, Mode mode, double range_m
 }
 
 void validate(const LoopCloserConfig& c) {
+  if (c.recognition.imitation.lookahead_m > 0 && c.recognition.imitation.mode == Mode::Default) {
+    throw std::invalid_argument(
+        "LoopCloserConfig: two-sided scans (imitation.lookahead_m > 0) are not supported by the "
+        "loop closer yet; use forward-only scans (lookahead_m = 0)");
+  }
   validate(c.cloud);
   validate(c.verify);
   validate(c.graph);

@@ -24,6 +24,8 @@ void validate(const ImitationConfig& c) {
   const char* name = "ImitationConfig";
   need(in(c.range_m, 0.1, kMaxRangeM), name,
        "range_m must be a finite number in [0.1, 1000] m" + got(c.range_m));
+  need(in(c.lookahead_m, 0.0, kMaxRangeM), name,
+       "lookahead_m must be a finite number in [0, 1000] m" + got(c.lookahead_m));
   need(c.init_frames >= 0 && c.init_frames <= 100000, name, "init_frames must be in [0, 100000]");
   need(c.voxel_divisions_xz >= 1 && c.voxel_divisions_y >= 1, name, "voxel divisions must be >= 1");
   // Cartesian cells: (2 d_xz + 1)^2 (2 d_y + 1); polar cells: (360/res + 1)(180/res + 1).

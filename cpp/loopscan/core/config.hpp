@@ -6,12 +6,27 @@ namespace loopscan {
 
 enum class ScanFilter { Cartesian, Polar };
 
+// The frame a descriptor is computed in (aligned axis 0 = "up", axes 1, 2 horizontal).
+// Pca: the paper's: centroid, eigenvectors of the scatter by ascending eigenvalue (which
+// axis is up depends on the scan's extent; signs are ambiguous). Camera: centred on the
+// keyframe, up = the camera's -y, horizontal = its x and z: rotation is left to the
+// descriptor's own search (Scan Context's sector shift); needs a camera that looks roughly
+// level (cars, robots; not a hand-held camera). GravityPca: centroid, up = the camera's -y,
+// horizontal axes = the 2D principal axes of the horizontal coordinates (descriptors without a
+// rotation search: M2DP, DELIGHT).
+enum class DescriptorFrame { Pca, Camera, GravityPca, Centroid };
+
 struct ImitationConfig {
   double range_m = 45.0;        // imitated LiDAR range r
   int init_frames = 30;         // keyframes skipped after a reset while points accumulate
   int voxel_divisions_xz = 30;  // Cartesian voxel = r/30 (x, z) ...
   int voxel_divisions_y = 60;   // ... and r/60 (y, the camera's down axis)
   double polar_resolution_deg = 1.0;
+  // Two-sided scans (default mode): a keyframe is described once the VO has travelled this far
+  // past it, from the points of the keyframes before AND after it, so that what a scan holds no
+  // longer depends on the direction of travel. 0: the paper's forward-only scan (the current
+  // keyframe, at once). Ignored in reference mode.
+  double lookahead_m = 0.0;
   Mode mode = Mode::Default;
 };
 
@@ -19,6 +34,7 @@ struct ScanContextConfig {
   int rings = 20;
   int sectors = 60;
   double max_radius_m = 45.0;
+  DescriptorFrame frame = DescriptorFrame::Pca;  // reference mode: always Pca
   Mode mode = Mode::Default;
 };
 
@@ -28,12 +44,14 @@ struct M2dpConfig {
   int plane_azimuths = 4;     // p
   int plane_elevations = 16;  // q
   double max_radius_m = 45.0;
+  DescriptorFrame frame = DescriptorFrame::Pca;  // reference mode: always Pca
   Mode mode = Mode::Default;
 };
 
 struct DelightConfig {
   double inner_radius_m = 10.0;
   int intensity_bins = 256;
+  DescriptorFrame frame = DescriptorFrame::Pca;  // reference mode: always Pca
   Mode mode = Mode::Default;
 };
 

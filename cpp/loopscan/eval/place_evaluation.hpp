@@ -23,6 +23,7 @@ struct PlaceEvaluationOptions {
 struct PlaceEvaluation {
   std::vector<QueryMatch> matches;  // one per query
   PrResult pr;
+  FusionWeights weights;  // the weights used (adaptive: chosen for this pair of sets)
   double query_ms =
       0;  // mean time of one difference-matrix row (all components, fused), per thread
 };

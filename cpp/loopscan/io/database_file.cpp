@@ -145,11 +145,11 @@ void save_database(const Database& db, const std::string& path,
   w.put<std::uint8_t>(clouds ? 1 : 0);
   if (clouds) {
     std::vector<std::int16_t> xyz;
-    for (const PlaceCloud& c : *clouds) {
-      w.put<std::uint32_t>(static_cast<std::uint32_t>(c.points.size()));
-      w.put<std::uint32_t>(static_cast<std::uint32_t>(c.structure));
+    for (const PlaceCloud& cloud : *clouds) {
+      w.put<std::uint32_t>(static_cast<std::uint32_t>(cloud.points.size()));
+      w.put<std::uint32_t>(static_cast<std::uint32_t>(cloud.structure));
       xyz.clear();
-      for (const Eigen::Vector3f& p : c.points) {
+      for (const Eigen::Vector3f& p : cloud.points) {
         for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<std::int16_t>(std::lround(p[k] * 100.0f)));
       }
       w.bytes(xyz.data(), xyz.size() * sizeof(std::int16_t));

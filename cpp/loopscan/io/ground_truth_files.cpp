@@ -68,4 +68,34 @@ std::vector<Eigen::Vector3d> read_positions(const std::string& path, GtFormat fo
   return positions;
 }
 
+namespace {
+
+// Direction of motion at row i of a position list: from the position `span_m` back to the one
+// `span_m` ahead (the nearest rows that far; the row itself at either end). Zero when it has
+// not moved.
+Eigen::Vector3d motion_direction(const std::vector<Eigen::Vector3d>& p, std::size_t i,
+                                 double span_m) {
+  std::size_t a = i, b = i;
+  while (a > 0 && (p[i] - p[a]).norm() < span_m) --a;
+  while (b + 1 < p.size() && (p[b] - p[i]).norm() < span_m) ++b;
+  const Eigen::Vector3d d = p[b] - p[a];
+  return d.norm() > 0 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> read_headings(const std::string& path, GtFormat format) {
+  std::vector<Eigen::Vector3d> headings;
+  if (format == GtFormat::Kitti) {
+    const auto poses = read_kitti_poses(path);
+    headings.reserve(poses.size());
+    for (const auto& T : poses) headings.push_back(T.col(2).normalized());  // camera z: forward
+    return headings;
+  }
+  const std::vector<Eigen::Vector3d> p = read_positions(path, format);
+  headings.reserve(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i) headings.push_back(motion_direction(p, i, 2.0));
+  return headings;
+}
+
 }  // namespace loopscan::io

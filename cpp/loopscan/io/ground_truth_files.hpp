@@ -20,4 +20,9 @@ std::vector<Eigen::Matrix<double, 3, 4>> read_kitti_poses(const std::string& pat
 // RobotCar: `northing easting down`, 3 finite numbers a line, returned in that order.
 std::vector<Eigen::Vector3d> read_positions(const std::string& path, GtFormat format);
 
+// One unit forward direction per frame id, in the positions' frame. Kitti: the camera's z axis;
+// RobotCar (positions only): the direction of motion over +-2 m of track (zero where the
+// vehicle stood still throughout).
+std::vector<Eigen::Vector3d> read_headings(const std::string& path, GtFormat format);
+
 }  // namespace loopscan::io

@@ -70,6 +70,9 @@ std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
 
 void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format) {
   set.positions = positions_of(set.keyframe_ids, gt_path, format);
+  const std::vector<Eigen::Vector3d> all = read_headings(gt_path, parse_gt_format(format));
+  set.headings.clear();
+  for (int id : set.keyframe_ids) set.headings.push_back(all[static_cast<std::size_t>(id)]);
 }
 
 }  // namespace loopscan::io

@@ -11,6 +11,7 @@ struct SignatureSet {
   std::vector<Signature> places;
   std::vector<int> keyframe_ids;
   std::vector<Eigen::Vector3d> positions;  // ground truth of each place
+  std::vector<Eigen::Vector3d> headings;   // ground-truth forward direction of each place
   // Descriptor axes in the camera frame (frames.txt of a describe output; identity without).
   std::vector<Eigen::Matrix3d> frames;
 };
@@ -26,7 +27,7 @@ SignatureSet load_signature_set(const std::string& path, Method method,
 std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
                                           const std::string& gt_path, const std::string& format);
 
-// Positions of the places from a KITTI pose / RobotCar GPS file, indexed by keyframe id.
+// Positions and headings of the places from a KITTI pose / RobotCar GPS file, indexed by keyframe id.
 void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format);
 
 }  // namespace loopscan::io

@@ -162,43 +162,62 @@ TEST(DatabaseSim, StreamingRunMatchesTheCausalOfflineEvaluation) {
 namespace loopscan {
 namespace {
 
-TEST(Recognizer, StreamingEqualsDescribeThenQuery) {
+// Forward-only and two-sided scans (and a reset in the middle, which ends the waiting
+// keyframes' map): the online recognizer describes the same places as the offline tool, in the
+// same order, and answers what querying the map before each place joined it answers.
+class RecognizerStreaming : public ::testing::TestWithParam<double> {};
+
+TEST_P(RecognizerStreaming, EqualsDescribeThenQuery) {
   const sim::Trajectory route = sim::make_builtin_trajectory("short");
   const std::vector<int> keyframes = sim::select_keyframes(route);
   const sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
   const sim::VoOutput vo =
       sim::simulate_vo(route, keyframes, world, sim::Conditions::for_season(sim::Season::Summer),
                        sim::StereoCamera{}, sim::VoSimConfig{});
-  const SequenceSignatures offline = describe_sequence(
-      vo.poses, vo.points, SequenceOptions::make(Method::ScanContext, Mode::Default));
+  const int reset_id = vo.poses[vo.poses.size() / 2].id;
+  SequenceOptions options = SequenceOptions::make(Method::ScanContext, Mode::Default);
+  options.imitation.lookahead_m = GetParam();
+  options.reset_ids = {reset_id};
+  const SequenceSignatures offline = describe_sequence(vo.poses, vo.points, options);
 
   RecognizerConfig config = RecognizerConfig::make(Method::ScanContext);
+  config.imitation.lookahead_m = GetParam();
   config.k = 3;
   Recognizer recognizer(config);
   Database replay(config.database);
-  std::size_t next = 0, described = 0;
+  std::size_t described = 0;
+  auto check = [&](const std::vector<KeyframeResult>& results) {
+    for (const KeyframeResult& r : results) {
+      ASSERT_LT(described, offline.signatures.size());
+      EXPECT_EQ(offline.keyframe_ids[described], r.keyframe);
+      const PlaceDescriptor place{offline.signatures[described], offline.frames[described]};
+      const auto want = replay.query(place, config.k, config.query);
+      replay.add({0, r.keyframe}, place);
+      ASSERT_EQ(r.matches.size(), want.size()) << "keyframe " << r.keyframe;
+      for (std::size_t j = 0; j < want.size(); ++j) {
+        EXPECT_EQ(r.matches[j].index, want[j].index);
+        EXPECT_DOUBLE_EQ(r.matches[j].distance, want[j].distance);
+      }
+      ++described;
+    }
+  };
+  std::size_t next = 0;
   for (const KeyframePose& k : vo.poses) {
     const std::size_t first = next;
     while (next < vo.points.size() && vo.points[next].id <= k.id) ++next;
-    const KeyframeResult r = recognizer.add_keyframe(k, vo.points.data() + first, next - first);
-    if (!r.described) continue;
-    // The same place as the offline tool, and the same answer as querying before adding it.
-    ASSERT_LT(described, offline.signatures.size());
-    EXPECT_EQ(offline.keyframe_ids[described], k.id);
-    const PlaceDescriptor place{offline.signatures[described], offline.frames[described]};
-    const auto want = replay.query(place, config.k, config.query);
-    replay.add({0, k.id}, place);
-    ASSERT_EQ(r.matches.size(), want.size()) << "keyframe " << k.id;
-    for (std::size_t j = 0; j < want.size(); ++j) {
-      EXPECT_EQ(r.matches[j].index, want[j].index);
-      EXPECT_DOUBLE_EQ(r.matches[j].distance, want[j].distance);
-    }
-    ++described;
+    check(recognizer.add_keyframe(k, vo.points.data() + first, next - first, k.id == reset_id));
   }
+  check(recognizer.finish());
   EXPECT_EQ(described, offline.signatures.size());
   EXPECT_EQ(recognizer.database().size(), described);
   ASSERT_TRUE(recognizer.database().pose(0).has_value());  // keyframe poses are kept
+  if (GetParam() > 0) {
+    EXPECT_EQ(described, vo.poses.size());  // no INIT_FRAME gap
+  }
 }
+
+INSTANTIATE_TEST_SUITE_P(ForwardOnlyAndTwoSided, RecognizerStreaming,
+                         ::testing::Values(0.0, 20.0));
 
 }  // namespace
 }  // namespace loopscan

@@ -22,6 +22,9 @@ void validate(const DatabaseConfig& c) {
        "structure_weight must be finite and in [0, 1000] (got " +
            std::to_string(c.structure_weight) + ")");
   if (c.method == Method::ScanContext) validate(c.scan_context);
+  need(c.fusion != Fusion::Adaptive, "DatabaseConfig",
+       "adaptive fusion weighs a whole set of queries at once (evaluate); a database fuses "
+       "each query on its own: use fused, structure or intensity");
   need(c.columns >= 0 && c.columns <= (1 << 20), "DatabaseConfig", "columns must be in [0, 2^20]");
 }
 

@@ -30,7 +30,7 @@ Signature delight_of_aligned(const Cloud& aligned, const DelightConfig& config) 
 
 Signature delight_signature(const Cloud& scan, const DelightConfig& config) {
   validate(config);
-  return delight_of_aligned(pca_align(scan, config.mode), config);
+  return delight_of_aligned(align_scan(scan, config.frame, config.mode), config);
 }
 
 }  // namespace loopscan

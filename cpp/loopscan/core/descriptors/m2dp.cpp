@@ -162,7 +162,7 @@ Signature m2dp_signature(const Cloud& scan, const M2dpConfig& config) {
   const int planes = config.plane_azimuths * config.plane_elevations;
   const int half = planes + config.azimuth_bins * config.radial_bins;
   Signature sig = Signature::Zero(4, 2 * half);
-  const Cloud aligned = pca_align(scan, config.mode);
+  const Cloud aligned = align_scan(scan, config.frame, config.mode);
   Cloud flipped(aligned.size());
   int row = 0;
   for (int sx = -1; sx <= 1; sx += 2) {

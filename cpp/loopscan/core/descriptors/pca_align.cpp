@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <cstdlib>
 #include <stdexcept>
 
 namespace loopscan {
@@ -75,6 +76,67 @@ Cloud pca_align(const Cloud& cloud, Mode mode, Eigen::Matrix3d* to_aligned) {
   if (cloud.empty()) return {};
   return mode == Mode::Reference ? pca_align_reference(cloud, to_aligned)
                                  : pca_align_default(cloud, to_aligned);
+}
+
+namespace {
+
+// Rows: up = -y, then the camera's x and z (a right-handed basis).
+Eigen::Matrix3d camera_axes() {
+  Eigen::Matrix3d m;
+  m << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  return m;
+}
+
+}  // namespace
+
+Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode,
+                 Eigen::Matrix3d* to_aligned) {
+  if (mode == Mode::Reference || frame == DescriptorFrame::Pca) {
+    return pca_align(cloud, mode, to_aligned);
+  }
+  Eigen::Matrix3d axes = camera_axes();
+  if (cloud.empty()) {
+    if (to_aligned) *to_aligned = axes;
+    return {};
+  }
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const PointI& q : cloud) centroid += q.p;
+  centroid /= static_cast<double>(cloud.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();  // of (x, z) only: up is given
+  if (frame == DescriptorFrame::GravityPca) {
+    for (const PointI& q : cloud) {
+      const Eigen::Vector3d d(q.p.x() - centroid.x(), 0, q.p.z() - centroid.z());
+      scatter.noalias() += d * d.transpose();
+    }
+  }
+  require_finite(centroid, scatter);
+  Eigen::Vector3d centre =
+      frame == DescriptorFrame::Camera ? Eigen::Vector3d::Zero() : centroid;
+  if (frame == DescriptorFrame::Centroid) {
+    const char* env = std::getenv("LS_DISC");
+    const double disc = env ? std::atof(env) : 1e9;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double n = 0;
+    for (const PointI& q : cloud) {
+      if (q.p.x() * q.p.x() + q.p.z() * q.p.z() < disc * disc) { sum += q.p; n += 1; }
+    }
+    centre = n > 0 ? Eigen::Vector3d(sum.x() / n, 0, sum.z() / n) : Eigen::Vector3d::Zero();
+  }
+  if (frame == DescriptorFrame::GravityPca) {
+    const Eigen::Matrix2d s2{{scatter(0, 0), scatter(0, 2)}, {scatter(2, 0), scatter(2, 2)}};
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(s2);
+    // Horizontal axes by ascending variance like pca_align (the long axis last), right-handed.
+    const Eigen::Vector2d u = solver.eigenvectors().col(0), v = solver.eigenvectors().col(1);
+    axes.row(1) << u.x(), 0, u.y();
+    axes.row(2) << v.x(), 0, v.y();
+    if (axes.determinant() < 0) axes.row(1) = -axes.row(1);
+  }
+  if (to_aligned) *to_aligned = axes;
+  Cloud out(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    out[i] = {axes * (cloud[i].p - centre), cloud[i].intensity};
+  }
+  return out;
 }
 
 }  // namespace loopscan

@@ -2,7 +2,7 @@
 // PCA alignment shared by all descriptors (paper Sec. III-B): center on the centroid and
 // express points in the eigenvector basis ordered by ascending eigenvalue, so axis 0 (least
 // variance) is taken as "up" and axes 1, 2 span the horizontal plane.
-#include "loopscan/core/types.hpp"
+#include "loopscan/core/config.hpp"
 
 namespace loopscan {
 
@@ -13,5 +13,10 @@ namespace loopscan {
 // are the aligned axes in the input frame (identity for an empty input), which turns a
 // descriptor's sector alignment back into a yaw of the keyframe.
 Cloud pca_align(const Cloud& cloud, Mode mode, Eigen::Matrix3d* to_aligned = nullptr);
+
+// The scan in a descriptor's frame (see DescriptorFrame); reference mode is always pca_align.
+// `to_aligned` as for pca_align.
+Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode,
+                 Eigen::Matrix3d* to_aligned = nullptr);
 
 }  // namespace loopscan

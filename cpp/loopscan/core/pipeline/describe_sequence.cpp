@@ -75,26 +75,31 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
     out.frames.insert(out.frames.end(), frames.begin(), frames.end());
     batch.clear();
   };
+  std::vector<ReadyScan> ready;
+  auto take = [&] {  // scans of keyframes that are ready: into the batch
+    for (ReadyScan& r : ready) {
+      out.keyframe_ids.push_back(r.keyframe.id);
+      out.mean_in_range += static_cast<double>(r.in_range.size());
+      out.mean_filtered += static_cast<double>(r.scan.size());
+      batch.push_back(std::move(r.scan));
+      if (batch.size() >= batch_size) flush();
+    }
+    ready.clear();
+  };
   std::size_t next_point = 0;
   for (const KeyframePose& keyframe : poses) {
     const std::size_t first = next_point;
     while (next_point < points.size() && points[next_point].id <= keyframe.id) ++next_point;
     const bool reset = std::binary_search(resets.begin(), resets.end(), keyframe.id);
-
     const auto t0 = std::chrono::steady_clock::now();
-    std::size_t n_in_range = 0;
-    Cloud scan;
-    if (!imitator.next_scan(keyframe, points.data() + first, next_point - first, reset, filter,
-                            scan, &n_in_range)) {
-      continue;
-    }
-    batch.push_back(std::move(scan));
+    imitator.push(keyframe, points.data() + first, next_point - first, reset, filter, ready);
     out.imitate_ms += ms_since(t0);
-    out.keyframe_ids.push_back(keyframe.id);
-    out.mean_in_range += static_cast<double>(n_in_range);
-    out.mean_filtered += static_cast<double>(batch.back().size());
-    if (batch.size() >= batch_size) flush();
+    take();
   }
+  const auto t0 = std::chrono::steady_clock::now();
+  imitator.finish(filter, ready);
+  out.imitate_ms += ms_since(t0);
+  take();
   flush();
   if (const double n = static_cast<double>(out.signatures.size()); n > 0) {
     out.imitate_ms /= n;

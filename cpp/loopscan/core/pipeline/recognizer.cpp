@@ -22,21 +22,34 @@ Recognizer::Recognizer(const RecognizerConfig& config)
 Recognizer::Recognizer(const RecognizerConfig& config, Database map)
     : config_(config), imitator_(config.imitation), db_(std::move(map)) {}
 
-KeyframeResult Recognizer::add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
-                                        std::size_t n_points, bool reset) {
+std::vector<KeyframeResult> Recognizer::add_keyframe(const KeyframePose& keyframe,
+                                                     const IdPoint* points, std::size_t n_points,
+                                                     bool reset) {
+  // 1. Imitate the scans that are ready (filtered as the descriptor expects).
+  ready_.clear();
+  imitator_.push(keyframe, points, n_points, reset, filter_for(config_.method), ready_);
+  std::vector<KeyframeResult> out;
+  for (const ReadyScan& r : ready_) out.push_back(recognise(r));
+  return out;
+}
+
+std::vector<KeyframeResult> Recognizer::finish() {
+  ready_.clear();
+  imitator_.finish(filter_for(config_.method), ready_);
+  std::vector<KeyframeResult> out;
+  for (const ReadyScan& r : ready_) out.push_back(recognise(r));
+  return out;
+}
+
+KeyframeResult Recognizer::recognise(const ReadyScan& ready) {
   KeyframeResult result;
-  // 1. Imitate the scan around the keyframe (filtered as the descriptor expects).
-  Cloud scan;
-  if (!imitator_.next_scan(keyframe, points, n_points, reset, filter_for(config_.method), scan)) {
-    return result;
-  }
-  // 2. Describe it.
+  // 2. Describe the scan.
   PlaceDescriptor place;
-  place.signature = describe(config_.method, scan, config_.descriptors, &place.frame);
+  place.signature = describe(config_.method, ready.scan, config_.descriptors, &place.frame);
   // 3. Query the map, 4. then join it.
-  result.described = true;
+  result.keyframe = ready.keyframe.id;
   result.matches = db_.query(place, config_.k, config_.query);
-  db_.add({config_.session, keyframe.id}, place, keyframe.T_cam_world);
+  db_.add({config_.session, ready.keyframe.id}, place, ready.keyframe.T_cam_world);
   return result;
 }
 

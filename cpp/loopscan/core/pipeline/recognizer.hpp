@@ -22,8 +22,9 @@ struct RecognizerConfig {
   static RecognizerConfig make(Method method, Mode mode = Mode::Default, double range_m = 45.0);
 };
 
+// One place described (and added to the map) and what the map answered before it joined.
 struct KeyframeResult {
-  bool described = false;          // the keyframe got a scan (and joined the map)
+  int keyframe = -1;               // the keyframe described (two-sided scans: an earlier one)
   std::vector<Candidate> matches;  // best first; empty when none passed the query options
 };
 
@@ -34,16 +35,24 @@ class Recognizer {
   Recognizer(const RecognizerConfig& config, Database map);
 
   // points: those the VO exported with this keyframe (world frame); reset: the VO restarted.
-  KeyframeResult add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
-                              std::size_t n_points, bool reset = false);
+  // Returns the places described now, oldest first. Forward-only scans: this keyframe, or none
+  // (the first init_frames after a reset). Two-sided scans (imitation.lookahead_m > 0): the
+  // keyframes the VO is now lookahead_m past (usually one; all waiting ones at a reset).
+  std::vector<KeyframeResult> add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
+                                           std::size_t n_points, bool reset = false);
+  // End of the drive: describes the keyframes still waiting for their two-sided scan.
+  std::vector<KeyframeResult> finish();
 
   const Database& database() const { return db_; }
   Database& database() { return db_; }
   const RecognizerConfig& config() const { return config_; }
 
  private:
+  KeyframeResult recognise(const ReadyScan& ready);
+
   RecognizerConfig config_;
   ScanImitator imitator_;
+  std::vector<ReadyScan> ready_;
   Database db_;
 };
 

@@ -40,24 +40,23 @@ void ScanImitator::reset() {
   local_.clear();
   world_.resize(0);
   frames_since_reset_ = 0;
+  pending_.clear();
+  path_m_ = 0;
+  has_centre_ = false;
 }
 
-bool ScanImitator::accumulate(const KeyframePose& keyframe, const IdPoint* points,
-                              std::size_t n_points, bool reset_signal) {
-  // 1. Reset. The reference heuristic also fires on the first (identity) pose and, wrongly,
-  //    whenever the camera passes within 1 m of the VO origin again.
-  const bool reference = config_.mode == Mode::Reference;
+void ScanImitator::check_pose(const KeyframePose& keyframe) const {
   for (int k = 0; k < 12; ++k) {
     if (!usable(keyframe.T_cam_world(k / 4, k % 4))) {
       throw std::invalid_argument("ScanImitator: keyframe " + std::to_string(keyframe.id) +
                                   " has a non-finite pose");
     }
   }
-  if (reference ? keyframe.T_cam_world.col(3).norm() < 1.0 : reset_signal) reset();
+}
 
-  // 2. Accumulate the keyframe's points in the local map; points with NaN or infinite values
-  //    (which no crop would keep) are left out and counted.
-  if (reference) {
+void ScanImitator::append_points(const IdPoint* points, std::size_t n_points) {
+  // Points with NaN or infinite values (which no crop would keep) are left out and counted.
+  if (config_.mode == Mode::Reference) {
     for (std::size_t i = 0; i < n_points; ++i) {
       if (!usable(points[i])) {
         ++unusable_points_;
@@ -65,18 +64,29 @@ bool ScanImitator::accumulate(const KeyframePose& keyframe, const IdPoint* point
       }
       local_.push_back({points[i].p_world, points[i].intensity});
     }
-  } else {
-    for (std::size_t i = 0; i < n_points; ++i) {
-      if (!usable(points[i])) {
-        ++unusable_points_;
-        continue;
-      }
-      world_.x.push_back(static_cast<float>(points[i].p_world.x()));
-      world_.y.push_back(static_cast<float>(points[i].p_world.y()));
-      world_.z.push_back(static_cast<float>(points[i].p_world.z()));
-      world_.gray.push_back(points[i].intensity);
-    }
+    return;
   }
+  for (std::size_t i = 0; i < n_points; ++i) {
+    if (!usable(points[i])) {
+      ++unusable_points_;
+      continue;
+    }
+    world_.x.push_back(static_cast<float>(points[i].p_world.x()));
+    world_.y.push_back(static_cast<float>(points[i].p_world.y()));
+    world_.z.push_back(static_cast<float>(points[i].p_world.z()));
+    world_.gray.push_back(points[i].intensity);
+  }
+}
+
+bool ScanImitator::accumulate(const KeyframePose& keyframe, const IdPoint* points,
+                              std::size_t n_points, bool reset_signal) {
+  // 1. Reset. The reference heuristic also fires on the first (identity) pose and, wrongly,
+  //    whenever the camera passes within 1 m of the VO origin again.
+  const bool reference = config_.mode == Mode::Reference;
+  check_pose(keyframe);
+  if (reference ? keyframe.T_cam_world.col(3).norm() < 1.0 : reset_signal) reset();
+  // 2. Accumulate the keyframe's points in the local map.
+  append_points(points, n_points);
 
   // 3. Right after a reset there are too few points for a scan.
   if (frames_since_reset_ < config_.init_frames) {

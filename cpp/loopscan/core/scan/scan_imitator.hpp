@@ -2,12 +2,20 @@
 // Imitates an omnidirectional LiDAR scan around each keyframe from the points a stereo VO
 // exported so far (paper Sec. III-A): a local map of world points, cropped to the range.
 #include <cstddef>
+#include <deque>
 #include <vector>
 
 #include "loopscan/core/config.hpp"
 #include "loopscan/core/scan/camera_points.hpp"
 
 namespace loopscan {
+
+// A keyframe's scan, ready to be described.
+struct ReadyScan {
+  KeyframePose keyframe;  // the keyframe the scan is centred on
+  Cloud scan;             // filtered for the descriptor, camera frame of `keyframe`
+  CameraPoints in_range;  // every map point within range, unfiltered (what verification aligns)
+};
 
 class ScanImitator {
  public:
@@ -33,6 +41,18 @@ class ScanImitator {
   bool next_scan(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
                  bool reset, ScanFilter filter, Cloud& scan, std::size_t* in_range_count = nullptr);
 
+  // The streaming step every pipeline uses: feeds a keyframe and appends the scans that are
+  // ready now. Forward-only (lookahead_m = 0, or reference mode): this keyframe's scan, when it
+  // gets one. Two-sided: the scans of the earlier keyframes the VO is now lookahead_m past (all
+  // waiting ones at a reset, which ends their map). Throws like add_keyframe.
+  void push(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points, bool reset,
+            ScanFilter filter, std::vector<ReadyScan>& ready);
+  // End of the sequence: the scans of the keyframes still waiting, from what the map holds.
+  void finish(ScanFilter filter, std::vector<ReadyScan>& ready);
+  bool two_sided() const { return config_.mode == Mode::Default && config_.lookahead_m > 0; }
+  // Keyframes waiting for their two-sided scan.
+  std::size_t waiting() const { return pending_.size(); }
+
   // The unfiltered in-range points of the last keyframe next_scan gave a scan (camera frame,
   // single precision): what loop verification aligns.
   void last_in_range(std::vector<Eigen::Vector3f>& out) const;
@@ -54,11 +74,27 @@ class ScanImitator {
   bool accumulate(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
                   bool reset);
 
+  void check_pose(const KeyframePose& keyframe) const;
+  void append_points(const IdPoint* points, std::size_t n_points);
+
   ImitationConfig config_;
   // Step 4, crop: out-of-range points leave the map for good. Reference mode in double with
   // the authors' arithmetic; default mode in float SoA.
   void crop_reference(const KeyframePose& keyframe, Cloud& in_range);
   void crop_fast(const KeyframePose& keyframe, CameraPoints& in_range);
+
+  struct Pending {
+    KeyframePose keyframe;
+    double path_m;  // distance travelled when it arrived
+  };
+  // Two-sided scans: crop around a waiting keyframe without dropping map points.
+  void emit_two_sided(const Pending& p, ScanFilter filter, std::vector<ReadyScan>& ready);
+  // Drops map points out of range of both the newest and the oldest waiting keyframe.
+  void prune_two_sided(const KeyframePose& newest);
+  std::deque<Pending> pending_;
+  double path_m_ = 0;
+  Eigen::Vector3d last_centre_ = Eigen::Vector3d::Zero();
+  bool has_centre_ = false;
 
   std::vector<PointI> local_;   // reference mode: world frame, double (the authors' arithmetic)
   CameraPoints world_;          // default mode: world frame, float SoA (4x less memory traffic)

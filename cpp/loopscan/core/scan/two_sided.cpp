@@ -1,0 +1,134 @@
+// The streaming step of ScanImitator, and its two-sided scans: a keyframe waits until the VO is
+// lookahead_m past it, then its scan is cropped from a map that holds the points of the
+// keyframes before and after it.
+#include <cmath>
+#include <cstdlib>
+#include <utility>
+
+#include "loopscan/core/scan/scan_imitator.hpp"
+
+namespace loopscan {
+namespace {
+
+struct FloatPose {
+  float R[9], t[3];
+  explicit FloatPose(const Pose3x4& T) {
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) R[3 * r + c] = static_cast<float>(T(r, c));
+      t[r] = static_cast<float>(T(r, 3));
+    }
+  }
+  float squared_range(float x, float y, float z) const {
+    const float cx = R[0] * x + R[1] * y + R[2] * z + t[0];
+    const float cy = R[3] * x + R[4] * y + R[5] * z + t[1];
+    const float cz = R[6] * x + R[7] * y + R[8] * z + t[2];
+    return cx * cx + cy * cy + cz * cz;
+  }
+};
+
+Eigen::Vector3d centre_of(const KeyframePose& k) {
+  return -k.T_cam_world.leftCols<3>().transpose() * k.T_cam_world.col(3);
+}
+
+}  // namespace
+
+void ScanImitator::push(const KeyframePose& keyframe, const IdPoint* points,
+                        std::size_t n_points, bool reset, ScanFilter filter,
+                        std::vector<ReadyScan>& ready) {
+  if (!two_sided()) {
+    ReadyScan r;
+    if (config_.mode == Mode::Reference) {
+      if (!add_keyframe(keyframe, points, n_points, reset, in_range_)) return;
+      r.scan = filter_scan(in_range_, filter, config_);
+      r.in_range = to_camera_points(in_range_);
+    } else {
+      if (!add_keyframe(keyframe, points, n_points, reset, in_range_fast_)) return;
+      r.scan = filter_camera_points(in_range_fast_, filter, config_);
+      r.in_range = in_range_fast_;
+    }
+    r.keyframe = keyframe;
+    ready.push_back(std::move(r));
+    return;
+  }
+  check_pose(keyframe);
+  if (reset) {  // the waiting keyframes' map ends here: describe them with what it holds
+    finish(filter, ready);
+    this->reset();
+  }
+  {
+    static const double max_depth = std::getenv("LS_DEPTH") ? std::atof(std::getenv("LS_DEPTH")) : 0;
+    if (max_depth > 0) {
+      std::vector<IdPoint> near;
+      near.reserve(n_points);
+      const Eigen::Matrix3d R = keyframe.T_cam_world.leftCols<3>();
+      const Eigen::Vector3d t = keyframe.T_cam_world.col(3);
+      for (std::size_t i = 0; i < n_points; ++i) {
+        const Eigen::Vector3d c = R * points[i].p_world + t;
+        if (c.z() < max_depth) near.push_back(points[i]);
+      }
+      append_points(near.data(), near.size());
+    } else {
+      append_points(points, n_points);
+    }
+  }
+  const Eigen::Vector3d centre = centre_of(keyframe);
+  if (has_centre_) path_m_ += (centre - last_centre_).norm();
+  last_centre_ = centre;
+  has_centre_ = true;
+  pending_.push_back({keyframe, path_m_});
+  while (!pending_.empty() && path_m_ - pending_.front().path_m >= config_.lookahead_m) {
+    emit_two_sided(pending_.front(), filter, ready);
+    pending_.pop_front();
+  }
+  prune_two_sided(keyframe);
+}
+
+void ScanImitator::finish(ScanFilter filter, std::vector<ReadyScan>& ready) {
+  for (const Pending& p : pending_) emit_two_sided(p, filter, ready);
+  pending_.clear();
+}
+
+void ScanImitator::emit_two_sided(const Pending& p, ScanFilter filter,
+                                  std::vector<ReadyScan>& ready) {
+  const FloatPose T(p.keyframe.T_cam_world);
+  const float range2 = static_cast<float>(config_.range_m * config_.range_m);
+  ReadyScan r;
+  r.keyframe = p.keyframe;
+  CameraPoints& out = r.in_range;
+  out.resize(world_.size());
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < world_.size(); ++i) {
+    const float x = world_.x[i], y = world_.y[i], z = world_.z[i];
+    const float cx = T.R[0] * x + T.R[1] * y + T.R[2] * z + T.t[0];
+    const float cy = T.R[3] * x + T.R[4] * y + T.R[5] * z + T.t[1];
+    const float cz = T.R[6] * x + T.R[7] * y + T.R[8] * z + T.t[2];
+    out.x[kept] = cx;
+    out.y[kept] = cy;
+    out.z[kept] = cz;
+    out.gray[kept] = world_.gray[i];
+    kept += cx * cx + cy * cy + cz * cz < range2;
+  }
+  out.resize(kept);
+  r.scan = filter_camera_points(out, filter, config_);
+  ready.push_back(std::move(r));
+}
+
+void ScanImitator::prune_two_sided(const KeyframePose& newest) {
+  // A point out of range of both ends of the waiting stretch is out of range of the keyframes in
+  // between too (up to the chord of a curve): it leaves the map for good, like the paper's crop.
+  const FloatPose a(newest.T_cam_world);
+  const FloatPose b(pending_.empty() ? newest.T_cam_world : pending_.front().keyframe.T_cam_world);
+  const float range2 = static_cast<float>(config_.range_m * config_.range_m);
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < world_.size(); ++i) {
+    const float x = world_.x[i], y = world_.y[i], z = world_.z[i];
+    world_.x[kept] = x;
+    world_.y[kept] = y;
+    world_.z[kept] = z;
+    world_.gray[kept] = world_.gray[i];
+    kept += a.squared_range(x, y, z) < range2 || b.squared_range(x, y, z) < range2;
+  }
+  world_.resize(kept);
+}
+
+}  // namespace loopscan
