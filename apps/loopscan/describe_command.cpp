@@ -56,12 +56,15 @@ void run_describe(const DescribeArgs& a) {
 
   SequenceOptions options = SequenceOptions::make(method, mode, a.range_m);
   options.threads = std::max(1, a.threads);
-  if (a.lookahead_m >= 0) options.imitation.lookahead_m = a.lookahead_m;
+  if (a.lookahead_m >= 0) {
+    if (mode == Mode::Reference && a.lookahead_m > 0)
+      throw std::invalid_argument("--lookahead: reference mode is the paper's forward-only scan");
+    options.imitation.lookahead_m = a.lookahead_m;
+  }
   if (!a.frame.empty()) {
-    const DescriptorFrame f = a.frame == "pca"      ? DescriptorFrame::Pca
-                              : a.frame == "camera" ? DescriptorFrame::Camera
-                              : a.frame == "centroid" ? DescriptorFrame::Centroid
-                                                    : DescriptorFrame::GravityPca;
+    if (mode == Mode::Reference && a.frame != "pca")
+      throw std::invalid_argument("--frame: reference mode is the paper's PCA frame");
+    const DescriptorFrame f = parse_descriptor_frame(a.frame);
     options.descriptors.scan_context.frame = options.descriptors.m2dp.frame =
         options.descriptors.delight.frame = f;
   }
@@ -82,6 +85,8 @@ void run_describe(const DescribeArgs& a) {
       {"method", method_name(method)},
       {"mode", mode_name(mode)},
       {"range_m", a.range_m},
+      {"lookahead_m", options.imitation.lookahead_m},
+      {"frame", a.frame.empty() ? "pca" : a.frame},
       {"filter", filter_for(method) == ScanFilter::Cartesian ? "cartesian" : "polar"},
       {"n_keyframes", poses.size()},
       {"n_signatures", result.signatures.size()},
@@ -121,8 +126,10 @@ void add_describe_command(CLI::App& app) {
   cmd->add_option("--range", args->range_m, "imitated LiDAR range in m")
       ->check(finite_in(0.1, 1000))
       ->capture_default_str();
-  cmd->add_option("--lookahead", args->lookahead_m, "two-sided scans: metres past a keyframe");
-  cmd->add_option("--frame", args->frame, "pca | camera | gravity-pca");
+  cmd->add_option("--lookahead", args->lookahead_m,
+                  "two-sided scans: describe a keyframe D m later (0: forward-only, the paper)")
+      ->check(CLI::Range(0.0, 1000.0));
+  cmd->add_option("--frame", args->frame, "descriptor frame: pca | camera | gravity-pca | centroid");
   cmd->add_option("--threads", args->threads, "threads describing scans (imitation is sequential)")
       ->check(finite_in(1, kMaxThreads))
       ->capture_default_str();

@@ -36,6 +36,35 @@ TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
                            (d / "sim/gt.txt").string() + " --out " + (d / "eval").string());
   ASSERT_EQ(r3.code, 0) << r3.output;
   EXPECT_FALSE(has_temp_files(d));
+  // Metrics by direction of the revisit: the two classes share the loops.
+  nlohmann::json metrics;
+  std::ifstream(d / "eval/metrics.json") >> metrics;
+  const auto& by = metrics["by_direction"];
+  EXPECT_EQ(by["same"]["n_loops"].get<int>() + by["opposite"]["n_loops"].get<int>(),
+            metrics["n_gt_loops"].get<int>());
+  EXPECT_LE(by["same"]["top1_correct"].get<int>(), by["same"]["n_loops"].get<int>());
+
+  // Two-sided scans in the centroid frame: every keyframe gets a place (no INIT_FRAME gap).
+  const std::string vo = " --poses " + (d / "sim/poses_history_file.txt").string() +
+                         " --points " + (d / "sim/pts_history_file.txt").string();
+  const CliResult r4 = run("describe --method sc --lookahead 20 --frame centroid" + vo +
+                           " --out " + (d / "sc2").string());
+  ASSERT_EQ(r4.code, 0) << r4.output;
+  EXPECT_EQ(read_lines(d / "sc2/incoming_id_file.txt").size(),
+            read_lines(d / "sim/poses_history_file.txt").size());
+  const CliResult r5 = run("evaluate --method sc --fusion adaptive --signatures " +
+                           (d / "sc2").string() + " --gt " + (d / "sim/gt.txt").string() +
+                           " --out " + (d / "eval2").string());
+  ASSERT_EQ(r5.code, 0) << r5.output;
+  std::ifstream(d / "eval2/metrics.json") >> metrics;
+  EXPECT_TRUE(metrics.contains("fusion_weights"));
+  // Mistakes: an unknown frame; reference mode is the paper's forward-only scan in PCA.
+  for (const std::string bad : {" --frame gravity", " --mode reference --lookahead 10",
+                                " --mode reference --frame camera", " --lookahead -1"}) {
+    const CliResult r6 = run("describe --method sc" + bad + vo + " --out " + (d / "bad").string());
+    EXPECT_EQ(r6.code, 2) << bad << ": " << r6.output;
+    EXPECT_FALSE(fs::exists(d / "bad")) << bad;
+  }
 }
 
 TEST(Cli, SimulateRejectsUnknownTrajectoryAndSeason) {

@@ -20,6 +20,15 @@ std::string got(double v) { return " (got " + std::to_string(v) + ")"; }
 
 }  // namespace
 
+DescriptorFrame parse_descriptor_frame(const std::string& name) {
+  if (name == "pca") return DescriptorFrame::Pca;
+  if (name == "camera") return DescriptorFrame::Camera;
+  if (name == "gravity-pca") return DescriptorFrame::GravityPca;
+  if (name == "centroid") return DescriptorFrame::Centroid;
+  throw std::invalid_argument("unknown descriptor frame '" + name +
+                              "' (expected pca, camera, gravity-pca or centroid)");
+}
+
 void validate(const ImitationConfig& c) {
   const char* name = "ImitationConfig";
   need(in(c.range_m, 0.1, kMaxRangeM), name,

@@ -1,5 +1,7 @@
 #pragma once
 // Parameters of every core stage, with the paper's values as defaults.
+#include <string>
+
 #include "loopscan/core/types.hpp"
 
 namespace loopscan {
@@ -13,8 +15,12 @@ enum class ScanFilter { Cartesian, Polar };
 // descriptor's own search (Scan Context's sector shift); needs a camera that looks roughly
 // level (cars, robots; not a hand-held camera). GravityPca: centroid, up = the camera's -y,
 // horizontal axes = the 2D principal axes of the horizontal coordinates (descriptors without a
-// rotation search: M2DP, DELIGHT).
+// rotation search: M2DP, DELIGHT). Centroid: as Camera, centred on the horizontal centroid of
+// the points within 20 m of the keyframe (lane-independent on a street).
 enum class DescriptorFrame { Pca, Camera, GravityPca, Centroid };
+
+// "pca" | "camera" | "gravity-pca" | "centroid"; throws std::invalid_argument otherwise.
+DescriptorFrame parse_descriptor_frame(const std::string& name);
 
 struct ImitationConfig {
   double range_m = 45.0;        // imitated LiDAR range r

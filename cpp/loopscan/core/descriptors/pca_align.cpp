@@ -2,7 +2,6 @@
 
 #include <Eigen/Eigenvalues>
 
-#include <cstdlib>
 #include <stdexcept>
 
 namespace loopscan {
@@ -113,12 +112,16 @@ Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode,
   Eigen::Vector3d centre =
       frame == DescriptorFrame::Camera ? Eigen::Vector3d::Zero() : centroid;
   if (frame == DescriptorFrame::Centroid) {
-    const char* env = std::getenv("LS_DISC");
-    const double disc = env ? std::atof(env) : 1e9;
+    // The horizontal centroid of the points near the keyframe: the middle of the street
+    // whichever lane the car is in (a whole-scan centroid follows the range cut instead).
+    constexpr double kDisc = 20.0;
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     double n = 0;
     for (const PointI& q : cloud) {
-      if (q.p.x() * q.p.x() + q.p.z() * q.p.z() < disc * disc) { sum += q.p; n += 1; }
+      if (q.p.x() * q.p.x() + q.p.z() * q.p.z() < kDisc * kDisc) {
+        sum += q.p;
+        n += 1;
+      }
     }
     centre = n > 0 ? Eigen::Vector3d(sum.x() / n, 0, sum.z() / n) : Eigen::Vector3d::Zero();
   }

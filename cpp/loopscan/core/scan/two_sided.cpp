@@ -2,7 +2,6 @@
 // lookahead_m past it, then its scan is cropped from a map that holds the points of the
 // keyframes before and after it.
 #include <cmath>
-#include <cstdlib>
 #include <utility>
 
 #include "loopscan/core/scan/scan_imitator.hpp"
@@ -55,22 +54,7 @@ void ScanImitator::push(const KeyframePose& keyframe, const IdPoint* points,
     finish(filter, ready);
     this->reset();
   }
-  {
-    static const double max_depth = std::getenv("LS_DEPTH") ? std::atof(std::getenv("LS_DEPTH")) : 0;
-    if (max_depth > 0) {
-      std::vector<IdPoint> near;
-      near.reserve(n_points);
-      const Eigen::Matrix3d R = keyframe.T_cam_world.leftCols<3>();
-      const Eigen::Vector3d t = keyframe.T_cam_world.col(3);
-      for (std::size_t i = 0; i < n_points; ++i) {
-        const Eigen::Vector3d c = R * points[i].p_world + t;
-        if (c.z() < max_depth) near.push_back(points[i]);
-      }
-      append_points(near.data(), near.size());
-    } else {
-      append_points(points, n_points);
-    }
-  }
+  append_points(points, n_points);
   const Eigen::Vector3d centre = centre_of(keyframe);
   if (has_centre_) path_m_ += (centre - last_centre_).norm();
   last_centre_ = centre;
