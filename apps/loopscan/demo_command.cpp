@@ -79,6 +79,7 @@ void run_demo(const DemoArgs& a) {
     eval::PlaceEvaluationOptions eo;
     eo.method = method;
     eo.threads = a.threads;
+    eo.fusion = default_fusion(Mode::Default);
     mr.same = eval::evaluate_places(sig[0].signatures, sig[0].signatures, pos[0], pos[0], eo);
     eo.protocol = eval::cross_session_protocol();
     mr.cross = eval::evaluate_places(sig[1].signatures, sig[0].signatures, pos[1], pos[0], eo);

@@ -26,6 +26,7 @@ struct DescribeArgs {
   int threads = 1;
   double lookahead_m = -1;  // <0: the mode's default
   std::string frame;        // empty: the mode's default
+  double lateral_offset_m = 0;
 };
 
 void run_describe(const DescribeArgs& a) {
@@ -67,6 +68,12 @@ void run_describe(const DescribeArgs& a) {
     const DescriptorFrame f = parse_descriptor_frame(a.frame);
     options.descriptors.scan_context.frame = options.descriptors.m2dp.frame =
         options.descriptors.delight.frame = f;
+  }
+  if (a.lateral_offset_m != 0) {
+    if (method != Method::ScanContext ||
+        options.descriptors.scan_context.frame != DescriptorFrame::Camera)
+      throw std::invalid_argument("--lateral-offset: Scan Context in the camera frame only");
+    options.descriptors.scan_context.lateral_offset_m = a.lateral_offset_m;
   }
   if (mode == Mode::Default) {
     options.reset_ids =
@@ -129,7 +136,11 @@ void add_describe_command(CLI::App& app) {
   cmd->add_option("--lookahead", args->lookahead_m,
                   "two-sided scans: describe a keyframe D m later (0: forward-only, the paper)")
       ->check(CLI::Range(0.0, 1000.0));
-  cmd->add_option("--frame", args->frame, "descriptor frame: pca | camera | gravity-pca | centroid");
+  cmd->add_option("--frame", args->frame,
+                  "descriptor frame: pca | camera | gravity-pca | centroid");
+  cmd->add_option("--lateral-offset", args->lateral_offset_m,
+                  "sc, --frame camera: centre the descriptor X m right of the keyframe")
+      ->check(CLI::Range(-100.0, 100.0));
   cmd->add_option("--threads", args->threads, "threads describing scans (imitation is sequential)")
       ->check(finite_in(1, kMaxThreads))
       ->capture_default_str();

@@ -17,9 +17,10 @@ namespace loopscan::cli {
 namespace {
 
 struct EvaluateArgs {
-  std::string method, signatures, ids, gt, gt_format = "kitti", against, gt2, fusion = "fused",
+  std::string method, signatures, ids, gt, gt_format = "kitti", against, gt2, fusion,
                                            mode = "default", out;
   double threshold_m = -1;
+  double structure_weight = 2.0;  // the paper's w_s
   int mask = -1;
 };
 
@@ -31,7 +32,7 @@ void run_evaluate(const EvaluateArgs& a) {
   }
   const Method method = parse_method(a.method);
   const Mode mode = parse_mode(a.mode);
-  const Fusion fusion = parse_fusion(a.fusion);
+  const Fusion fusion = a.fusion.empty() ? default_fusion(mode) : parse_fusion(a.fusion);
   io::SignatureSet queries = io::load_signature_set(a.signatures, method, a.ids);
   io::attach_positions(queries, a.gt, a.gt_format);
   const bool cross = !a.against.empty();
@@ -49,6 +50,7 @@ void run_evaluate(const EvaluateArgs& a) {
   eval::PlaceEvaluationOptions options;
   options.method = method;
   options.fusion = fusion;
+  options.structure_weight = a.structure_weight;
   options.protocol = cross ? eval::cross_session_protocol() : eval::same_session_protocol();
   if (a.threshold_m > 0) options.protocol.threshold_m = a.threshold_m;
   if (a.mask >= 0) options.protocol.mask_width = a.mask;
@@ -74,10 +76,11 @@ void run_evaluate(const EvaluateArgs& a) {
   metrics["by_direction"] = direction_metrics(split);
   if (fusion == Fusion::Adaptive && method != Method::Delight) {
     const FusionWeights& w = ev.weights;
-    metrics["fusion_weights"] = {{"structure", w.structure},     {"intensity", w.intensity},
-                                 {"agreement", w.agreement},     {"chance", w.chance},
-                                 {"reliability", w.reliability}, {"structure_peak", w.structure_peak},
-                                 {"intensity_peak", w.intensity_peak}};
+    metrics["fusion_weights"] = {
+        {"structure", w.structure},          {"intensity", w.intensity},
+        {"agreement", w.agreement},          {"chance", w.chance},
+        {"reliability", w.reliability},      {"structure_peak", w.structure_peak},
+        {"intensity_peak", w.intensity_peak}};
   }
   const std::string title = method_name(method) + " (" + metrics["fusion"].get<std::string>() + ")";
   write_evaluation(a.out, queries.keyframe_ids, db.keyframe_ids, ev.pr, metrics, title);
@@ -102,7 +105,13 @@ void add_evaluate_command(CLI::App& app) {
   cmd->add_option("--gt-format", args->gt_format, "kitti | robotcar")->capture_default_str();
   cmd->add_option("--against", args->against, "database session (cross-session evaluation)");
   cmd->add_option("--gt2", args->gt2, "ground truth of the --against session");
-  cmd->add_option("--fusion", args->fusion, "fused | structure | intensity")->capture_default_str();
+  cmd->add_option("--fusion", args->fusion,
+                  "adaptive (default mode's default) | fused (the paper's; reference mode's "
+                  "default) | structure | intensity");
+  cmd->add_option("--structure-weight", args->structure_weight,
+                  "w_s of the fusion w_s z(structure) + z(intensity)")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
   cmd->add_option("--mode", args->mode, "reference (double, Matlab quirks) | default")
       ->capture_default_str();
   cmd->add_option("--threshold", args->threshold_m, "loop distance in m (10 same / 25 cross)")

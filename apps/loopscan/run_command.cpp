@@ -149,6 +149,7 @@ void run_all(const RunArgs& a) {
         eo.threads = std::max(1, a.threads);
         eo.precision = mode == Mode::Reference ? Precision::Double : Precision::Float;
         eo.reference_quirks = mode == Mode::Reference;
+        eo.fusion = default_fusion(mode);
         const std::vector<Eigen::Vector3d> positions = positions_of(sig.keyframe_ids);
         const eval::PlaceEvaluation ev =
             eval::evaluate_places(sig.signatures, sig.signatures, positions, positions, eo);

@@ -67,16 +67,19 @@ TEST(LoopCloser, ClosesADriftedBlockWithTrueLoopsOnly) {
   });
   closer.finish();
   std::vector<Eigen::Vector3d> gt;
-  for (const KeyframePose& k : d.vo.poses) gt.push_back(d.route.T_world_cam[std::size_t(k.id)].translation());
+  for (const KeyframePose& k : d.vo.poses)
+    gt.push_back(d.route.T_world_cam[std::size_t(k.id)].translation());
   const double before = eval::aligned_rmse(gt, centres(d.vo.poses));
   const double after = eval::aligned_rmse(gt, centres(closer.corrected_poses()));
   int accepted = 0;
   for (const closure::Loop& l : closer.loops()) {
     if (!l.accepted()) continue;
     ++accepted;
-    const eval::LoopTruth t = eval::loop_truth(l.T_query_match, d.route.T_world_cam[std::size_t(l.query)],
-                                               d.route.T_world_cam[std::size_t(l.match.keyframe)]);
-    EXPECT_TRUE(t.is_true) << l.query << " -> " << l.match.keyframe << ": " << t.gt_distance_m << " m";
+    const eval::LoopTruth t =
+        eval::loop_truth(l.T_query_match, d.route.T_world_cam[std::size_t(l.query)],
+                         d.route.T_world_cam[std::size_t(l.match.keyframe)]);
+    EXPECT_TRUE(t.is_true) << l.query << " -> " << l.match.keyframe << ": " << t.gt_distance_m
+                           << " m";
     EXPECT_LT(t.translation_error_m, 0.6);
     EXPECT_LT(t.rotation_error_deg, 2.0);
   }
@@ -146,13 +149,15 @@ TEST(LoopCloser, ASecondSessionJoinsTheSavedMapAtItsFirstLoop) {
   const std::vector<KeyframePose> poses = second.corrected_poses();
   std::unordered_map<int, Eigen::Vector3d> mine, theirs;
   for (std::size_t i = 0; i < poses.size(); ++i) mine[poses[i].id] = centres({poses[i]})[0];
-  for (std::size_t i = 0; i < map_poses.size(); ++i) theirs[map_poses[i].id] = centres({map_poses[i]})[0];
+  for (std::size_t i = 0; i < map_poses.size(); ++i)
+    theirs[map_poses[i].id] = centres({map_poses[i]})[0];
   int cross = 0;
   for (const closure::Loop& l : second.loops()) {
     if (!l.accepted() || l.match.session != 0) continue;
     ++cross;
     const double gt = (winter.route.T_world_cam[std::size_t(l.query)].translation() -
-                       map_drive.route.T_world_cam[std::size_t(l.match.keyframe)].translation()).norm();
+                       map_drive.route.T_world_cam[std::size_t(l.match.keyframe)].translation())
+                          .norm();
     EXPECT_LT(gt, 10.0);
     EXPECT_NEAR((mine[l.query] - theirs[l.match.keyframe]).norm(), gt, 1.0) << l.query;
   }

@@ -40,9 +40,9 @@ void validate(const LoopCloserConfig& c) {
   validate(c.graph);
   const ConsistencyConfig& k = c.consistency;
   if (c.candidates < 1 || c.candidates > 100 || k.required < 1 || k.required > 100 ||
-      k.window < 1 || k.window > 1000 || !(k.max_translation_m > 0) ||
-      !(k.max_rotation_deg > 0) || !std::isfinite(k.max_translation_m) ||
-      !std::isfinite(k.max_rotation_deg) || c.min_keyframes_between_solves < 0) {
+      k.window < 1 || k.window > 1000 || !(k.max_translation_m > 0) || !(k.max_rotation_deg > 0) ||
+      !std::isfinite(k.max_translation_m) || !std::isfinite(k.max_rotation_deg) ||
+      c.min_keyframes_between_solves < 0) {
     throw std::invalid_argument(
         "loop closer config: candidates in [1, 100], consistency required in [1, 100], window in "
         "[1, 1000], tolerances finite and > 0, min_keyframes_between_solves >= 0");
@@ -163,8 +163,8 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
   // 2. Describe it: signature and the cloud verification aligns.
   t0 = Clock::now();
   PlaceDescriptor place;
-  place.signature = describe(config_.recognition.method, scan, config_.recognition.descriptors,
-                             &place.frame);
+  place.signature =
+      describe(config_.recognition.method, scan, config_.recognition.descriptors, &place.frame);
   times_.describe += ms_since(t0);
   t0 = Clock::now();
   const TargetCloud target(voxel_cloud(raw_, config_.cloud), config_.normals);
@@ -208,7 +208,8 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
     int id;
     // A loop the current estimate already agrees with may wait for the next solve; any other
     // one is solved now, through the graph's cost gate.
-    const bool agrees = graph_.loop_residual(a, b, loop.T_query_match) <= config_.graph.max_loop_residual;
+    const bool agrees =
+        graph_.loop_residual(a, b, loop.T_query_match) <= config_.graph.max_loop_residual;
     if (!agrees || described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
       graph_.add_loop(a, b, loop.T_query_match, &out.solve, &id);
       last_solve_at_ = described_;

@@ -52,6 +52,8 @@ void validate(const ScanContextConfig& c) {
   need(c.sectors >= 1 && c.sectors <= 3600, name, "sectors must be in [1, 3600]");
   need(in(c.max_radius_m, 0.1, kMaxRangeM), name,
        "max_radius_m must be a finite number in [0.1, 1000] m" + got(c.max_radius_m));
+  need(in(c.lateral_offset_m, -100.0, 100.0), name,
+       "lateral_offset_m must be a finite number in [-100, 100] m" + got(c.lateral_offset_m));
 }
 
 void validate(const M2dpConfig& c) {

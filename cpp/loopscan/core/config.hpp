@@ -41,6 +41,9 @@ struct ScanContextConfig {
   int sectors = 60;
   double max_radius_m = 45.0;
   DescriptorFrame frame = DescriptorFrame::Pca;  // reference mode: always Pca
+  // Camera frame: centre the descriptor this far right of the keyframe (a diagnostic of
+  // lateral sensitivity; a query "from the next lane").
+  double lateral_offset_m = 0.0;
   Mode mode = Mode::Default;
 };
 

@@ -24,8 +24,7 @@ void finish(DirectionMetrics& d) {
 
 }  // namespace
 
-DirectionSplit split_by_direction(const PrResult& pr,
-                                  const std::vector<Eigen::Vector3d>& query_pos,
+DirectionSplit split_by_direction(const PrResult& pr, const std::vector<Eigen::Vector3d>& query_pos,
                                   const std::vector<Eigen::Vector3d>& db_pos,
                                   const std::vector<Eigen::Vector3d>& query_headings,
                                   const std::vector<Eigen::Vector3d>& db_headings,

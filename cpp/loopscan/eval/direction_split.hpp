@@ -23,8 +23,7 @@ struct DirectionSplit {
 // Precision of a class counts the false positives of its own loops and of the queries that
 // are no loop; recall is over the class's loops. Throws std::invalid_argument on size
 // mismatches.
-DirectionSplit split_by_direction(const PrResult& pr,
-                                  const std::vector<Eigen::Vector3d>& query_pos,
+DirectionSplit split_by_direction(const PrResult& pr, const std::vector<Eigen::Vector3d>& query_pos,
                                   const std::vector<Eigen::Vector3d>& db_pos,
                                   const std::vector<Eigen::Vector3d>& query_headings,
                                   const std::vector<Eigen::Vector3d>& db_headings,

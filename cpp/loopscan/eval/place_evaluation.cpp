@@ -7,6 +7,13 @@
 #include "loopscan/eval/best_match.hpp"
 
 namespace loopscan::eval {
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
 
 PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
                                 const std::vector<Signature>& database,
@@ -21,47 +28,34 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
   out.matches.resize(queries.size());
   std::vector<double> thread_ms(threads, 0.0);
   const bool adaptive = options.fusion == Fusion::Adaptive && options.method != Method::Delight;
-  // Adaptive fusion: the z-scored halves of every row first, then weights for the whole set.
-  std::vector<Eigen::RowVectorXf> zs(adaptive ? queries.size() : 0), zi(zs.size());
-  auto components_of = [&](std::size_t i, Eigen::MatrixXd& components) {
-    const auto t0 = std::chrono::steady_clock::now();
-    matcher->distances(queries[i], components);
-    return t0;
-  };
-  if (adaptive) {
+  const int mask = options.protocol.mask_width;
+  out.weights.structure = options.structure_weight;
+  if (adaptive) {  // pass one: the statistics of the whole difference matrix
+    std::vector<FusionStatistics> stats(threads);
     run_on_threads(threads, [&](int t) {
       Eigen::MatrixXd components;
       for (std::size_t i = t; i < queries.size(); i += threads) {
-        const auto t0 = components_of(i, components);
-        Eigen::RowVectorXd s = components.row(0), g = components.row(1);
-        row_zscore(s);
-        row_zscore(g);
-        zs[i] = s.cast<float>();
-        zi[i] = g.cast<float>();
-        thread_ms[t] += std::chrono::duration<double, std::milli>(
-                            std::chrono::steady_clock::now() - t0).count();
+        const auto t0 = std::chrono::steady_clock::now();
+        matcher->distances(queries[i], components);
+        stats[t].add_row(components.row(0), components.row(1), static_cast<int>(i), mask);
+        thread_ms[t] += ms_since(t0);
       }
     });
-    out.weights = adaptive_fusion_weights(zs, zi, options.protocol.mask_width,
-                                          options.structure_weight);
-  } else {
-    out.weights.structure = options.structure_weight;
+    for (int t = 1; t < threads; ++t) stats[0].merge(stats[t]);
+    out.weights = stats[0].weights(options.structure_weight);
   }
   auto work = [&](int t) {
     Eigen::MatrixXd components;
     for (std::size_t i = t; i < queries.size(); i += threads) {
-      Eigen::RowVectorXd row;
-      if (adaptive) {
-        row = (out.weights.structure * zs[i] + out.weights.intensity * zi[i]).cast<double>();
-      } else {
-        const auto t0 = components_of(i, components);
-        row = combine_components(components, options.fusion, options.structure_weight);
-        thread_ms[t] += std::chrono::duration<double, std::milli>(
-                            std::chrono::steady_clock::now() - t0).count();
-      }
+      const auto t0 = std::chrono::steady_clock::now();
+      matcher->distances(queries[i], components);
+      const Eigen::RowVectorXd row =
+          adaptive ? adaptive_fused_row(components.row(0), components.row(1), out.weights)
+                   : combine_components(components, options.fusion, options.structure_weight);
+      thread_ms[t] += ms_since(t0);
       // The mask applies after fusion: the row statistics include the excluded columns.
-      out.matches[i] = best_match(row.data(), static_cast<int>(row.size()), static_cast<int>(i),
-                                  options.protocol.mask_width);
+      out.matches[i] =
+          best_match(row.data(), static_cast<int>(row.size()), static_cast<int>(i), mask);
     }
   };
   run_on_threads(threads, work);

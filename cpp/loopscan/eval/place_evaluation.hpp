@@ -3,6 +3,7 @@
 // matcher, fusion, mask, per-query best match, PR curve and metrics.
 #include <vector>
 
+#include "loopscan/core/matching/adaptive_fusion.hpp"
 #include "loopscan/core/matching/fusion.hpp"
 #include "loopscan/core/matching/place_matcher.hpp"
 #include "loopscan/eval/precision_recall.hpp"
@@ -24,8 +25,9 @@ struct PlaceEvaluation {
   std::vector<QueryMatch> matches;  // one per query
   PrResult pr;
   FusionWeights weights;  // the weights used (adaptive: chosen for this pair of sets)
-  double query_ms =
-      0;  // mean time of one difference-matrix row (all components, fused), per thread
+  // Mean time of one difference-matrix row (all components, fused), per thread; adaptive
+  // fusion computes every row twice (statistics, then fusion) and counts both.
+  double query_ms = 0;
 };
 
 PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,

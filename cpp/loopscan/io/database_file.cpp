@@ -71,7 +71,8 @@ void read_clouds(Reader& r, std::uint64_t count, std::uintmax_t file_size,
     const auto structure = r.get<std::uint32_t>("a cloud's structure count");
     if (n > kMaxCloudPoints || structure > n) {
       r.fail("cloud " + std::to_string(i) + ": " + std::to_string(n) + " points, " +
-             std::to_string(structure) + " structure points, expected at most 2^20 and "
+             std::to_string(structure) +
+             " structure points, expected at most 2^20 and "
              "structure <= points");
     }
     if (r.offset() + 6ull * n + 4 > file_size) {
@@ -102,8 +103,9 @@ void save_database(const Database& db, const std::string& path,
   if (clouds) {
     for (const PlaceCloud& c : *clouds) {
       if (c.structure > c.points.size() || c.points.size() > kMaxCloudPoints) {
-        throw std::invalid_argument("save_database: a cloud of more than 2^20 points or with "
-                                    "more structure points than points");
+        throw std::invalid_argument(
+            "save_database: a cloud of more than 2^20 points or with "
+            "more structure points than points");
       }
       for (const Eigen::Vector3f& p : c.points) {
         if (!(p.cwiseAbs().maxCoeff() < kMaxCloudM)) {
@@ -150,7 +152,8 @@ void save_database(const Database& db, const std::string& path,
       w.put<std::uint32_t>(static_cast<std::uint32_t>(cloud.structure));
       xyz.clear();
       for (const Eigen::Vector3f& p : cloud.points) {
-        for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<std::int16_t>(std::lround(p[k] * 100.0f)));
+        for (int k = 0; k < 3; ++k)
+          xyz.push_back(static_cast<std::int16_t>(std::lround(p[k] * 100.0f)));
       }
       w.bytes(xyz.data(), xyz.size() * sizeof(std::int16_t));
     }

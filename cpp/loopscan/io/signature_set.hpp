@@ -27,7 +27,8 @@ SignatureSet load_signature_set(const std::string& path, Method method,
 std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
                                           const std::string& gt_path, const std::string& format);
 
-// Positions and headings of the places from a KITTI pose / RobotCar GPS file, indexed by keyframe id.
+// Positions and headings of the places from a KITTI pose / RobotCar GPS file, indexed by keyframe
+// id.
 void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format);
 
 }  // namespace loopscan::io

@@ -216,8 +216,7 @@ TEST_P(RecognizerStreaming, EqualsDescribeThenQuery) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(ForwardOnlyAndTwoSided, RecognizerStreaming,
-                         ::testing::Values(0.0, 20.0));
+INSTANTIATE_TEST_SUITE_P(ForwardOnlyAndTwoSided, RecognizerStreaming, ::testing::Values(0.0, 20.0));
 
 }  // namespace
 }  // namespace loopscan

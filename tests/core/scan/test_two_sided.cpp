@@ -109,8 +109,8 @@ TEST(TwoSidedScan, ReferenceModeAndZeroLookaheadStayForwardOnly) {
       ready.clear();
       a.push(keyframe_at(i), p.data(), p.size(), false, ScanFilter::Polar, ready);
       Cloud scan;
-      const bool got = b.next_scan(keyframe_at(i), p.data(), p.size(), false, ScanFilter::Polar,
-                                   scan);
+      const bool got =
+          b.next_scan(keyframe_at(i), p.data(), p.size(), false, ScanFilter::Polar, scan);
       ASSERT_EQ(ready.size(), got ? 1u : 0u) << i;
       if (!got) continue;
       EXPECT_EQ(ready[0].keyframe.id, i);
@@ -131,8 +131,8 @@ TEST(DescriptorFrame, CameraAndCentroidFramesKeepUpAndAreRightHanded) {
     cloud.push_back({{-4.0, -1.0 * (i % 5), i - 10.0}, 10.f});
     cloud.push_back({{10.0, -1.0 * (i % 5), i - 10.0}, 10.f});
   }
-  for (DescriptorFrame f : {DescriptorFrame::Camera, DescriptorFrame::Centroid,
-                            DescriptorFrame::GravityPca}) {
+  for (DescriptorFrame f :
+       {DescriptorFrame::Camera, DescriptorFrame::Centroid, DescriptorFrame::GravityPca}) {
     Eigen::Matrix3d axes;
     const Cloud out = align_scan(cloud, f, Mode::Default, &axes);
     EXPECT_NEAR(axes.determinant(), 1.0, 1e-12);

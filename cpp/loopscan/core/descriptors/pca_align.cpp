@@ -88,8 +88,8 @@ Eigen::Matrix3d camera_axes() {
 
 }  // namespace
 
-Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode,
-                 Eigen::Matrix3d* to_aligned) {
+Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Eigen::Matrix3d* to_aligned,
+                 double lateral_offset_m) {
   if (mode == Mode::Reference || frame == DescriptorFrame::Pca) {
     return pca_align(cloud, mode, to_aligned);
   }
@@ -109,8 +109,8 @@ Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode,
     }
   }
   require_finite(centroid, scatter);
-  Eigen::Vector3d centre =
-      frame == DescriptorFrame::Camera ? Eigen::Vector3d::Zero() : centroid;
+  Eigen::Vector3d centre = frame == DescriptorFrame::Camera ? Eigen::Vector3d::Zero() : centroid;
+  if (frame == DescriptorFrame::Camera) centre.x() = lateral_offset_m;
   if (frame == DescriptorFrame::Centroid) {
     // The horizontal centroid of the points near the keyframe: the middle of the street
     // whichever lane the car is in (a whole-scan centroid follows the range cut instead).

@@ -15,8 +15,9 @@ namespace loopscan {
 Cloud pca_align(const Cloud& cloud, Mode mode, Eigen::Matrix3d* to_aligned = nullptr);
 
 // The scan in a descriptor's frame (see DescriptorFrame); reference mode is always pca_align.
-// `to_aligned` as for pca_align.
+// `to_aligned` as for pca_align. `lateral_offset_m` (camera frame only) centres the descriptor
+// that far along the camera's x axis (right): where a car in the next lane would be.
 Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode,
-                 Eigen::Matrix3d* to_aligned = nullptr);
+                 Eigen::Matrix3d* to_aligned = nullptr, double lateral_offset_m = 0.0);
 
 }  // namespace loopscan

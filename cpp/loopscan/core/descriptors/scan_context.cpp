@@ -49,7 +49,8 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
 Signature scan_context_signature(const Cloud& scan, const ScanContextConfig& config,
                                  Eigen::Matrix3d* frame) {
   validate(config);
-  const ScanContext sc = scan_context_of_aligned(align_scan(scan, config.frame, config.mode, frame), config);
+  const ScanContext sc = scan_context_of_aligned(
+      align_scan(scan, config.frame, config.mode, frame, config.lateral_offset_m), config);
   Signature row(1, sc.structure.size() + sc.intensity.size());
   row << sc.structure.transpose(), sc.intensity.transpose();
   return row;

@@ -31,9 +31,8 @@ Eigen::Vector3d centre_of(const KeyframePose& k) {
 
 }  // namespace
 
-void ScanImitator::push(const KeyframePose& keyframe, const IdPoint* points,
-                        std::size_t n_points, bool reset, ScanFilter filter,
-                        std::vector<ReadyScan>& ready) {
+void ScanImitator::push(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
+                        bool reset, ScanFilter filter, std::vector<ReadyScan>& ready) {
   if (!two_sided()) {
     ReadyScan r;
     if (config_.mode == Mode::Reference) {
