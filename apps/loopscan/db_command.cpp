@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "evaluation_outputs.hpp"
 #include "loopscan/core/database/database.hpp"
+#include "loopscan/core/database/lane_query.hpp"
 #include "loopscan/eval/precision_recall.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/database_file.hpp"
@@ -31,6 +32,7 @@ struct BuildArgs {
 
 struct QueryArgs {
   std::string db, signatures, gt, gt_format = "kitti", out;
+  std::vector<std::string> lanes;  // describe outputs of the same places from the next lanes
   int k = 5, candidates = 50, exclude_recent = 0, mask = 0;
   std::vector<int> sessions;
   double uniqueness = 1.0, max_distance = -1, threshold_m = 25.0;
@@ -89,6 +91,15 @@ void run_query(const QueryArgs& a) {
   io::SignatureSet queries = io::load_signature_set(a.signatures, db.config().method);
   const bool with_gt = !a.gt.empty();
   if (with_gt) io::attach_positions(queries, a.gt, a.gt_format);
+  std::vector<io::SignatureSet> lanes;
+  for (const std::string& dir : a.lanes) {
+    lanes.push_back(io::load_signature_set(dir, db.config().method));
+    if (lanes.back().keyframe_ids != queries.keyframe_ids) {
+      throw io::InputError(dir, 0,
+                           "the keyframe ids of --signatures " + a.signatures +
+                               " (a lane version describes the same places)");
+    }
+  }
 
   QueryOptions options;
   options.retrieval = a.exact ? Retrieval::Exact : Retrieval::Indexed;
@@ -110,7 +121,11 @@ void run_query(const QueryArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<Candidate> found;
     try {
-      found = db.query({queries.places[i], queries.frames[i]}, a.k, options);
+      std::vector<PlaceDescriptor> versions;
+      for (const io::SignatureSet& lane : lanes)
+        versions.push_back({lane.places[i], lane.frames[i]});
+      found = query_with_lane_versions(db, {queries.places[i], queries.frames[i]}, versions, a.k,
+                                       options);
     } catch (const std::invalid_argument& e) {
       throw io::InputError(a.signatures, 0, e.what());
     }
@@ -199,6 +214,9 @@ void add_db_command(CLI::App& app) {
   auto q = std::make_shared<QueryArgs>();
   CLI::App* query = db->add_subcommand("query", "Query a database with a described sequence");
   query->add_option("--db", q->db, "database file (db build)")->required();
+  query->add_option("--lanes", q->lanes,
+                    "describe outputs of the same places from the next lanes (sc, --frame camera "
+                    "--lateral-offset -3.5 / 3.5): they match reverse drives only");
   query->add_option("--signatures", q->signatures, "describe output dir of the queries")
       ->required();
   query->add_option("--k", q->k, "results per query")

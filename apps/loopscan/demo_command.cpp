@@ -9,6 +9,8 @@
 #include "closure_report.hpp"
 #include "commands.hpp"
 #include "demo_figures.hpp"
+#include "demo_opposite.hpp"
+#include "evaluation_outputs.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
@@ -84,6 +86,17 @@ void run_demo(const DemoArgs& a) {
     eo.protocol = eval::cross_session_protocol();
     mr.cross = eval::evaluate_places(sig[1].signatures, sig[0].signatures, pos[1], pos[0], eo);
     mr.query_positions = pos[1];
+    const std::vector<Eigen::Vector3d> heading[2] = {
+        headings_of(route.trajectory, sig[0].keyframe_ids),
+        headings_of(route.trajectory, sig[1].keyframe_ids)};
+    mr.same_by_direction = eval::split_by_direction(mr.same.pr, pos[0], pos[0], heading[0],
+                                                    heading[0], eval::same_session_protocol());
+    mr.cross_by_direction = eval::split_by_direction(mr.cross.pr, pos[1], pos[0], heading[1],
+                                                     heading[0], eval::cross_session_protocol());
+    if (method == Method::ScanContext) {
+      results.opposite = opposite_figures(route.trajectory, sessions[0].vo,
+                                          opposite_revisit(route.trajectory, sig[0].keyframe_ids));
+    }
     if (method == Method::ScanContext) results.example = example_scan(sessions[0].vo, options);
     results.methods.push_back(mr);
   }
@@ -114,6 +127,8 @@ void run_demo(const DemoArgs& a) {
                        {"recall_at_100_precision", m.cross.pr.recall_at_100_precision},
                        {"f1_max", m.cross.pr.f1_max},
                        {"n_gt_loops", m.cross.pr.n_gt_loops}}},
+                     {"same_season_by_direction", direction_metrics(m.same_by_direction)},
+                     {"cross_season_by_direction", direction_metrics(m.cross_by_direction)},
                      {"imitate_ms", m.imitate_ms},
                      {"describe_ms", m.describe_ms},
                      {"query_ms", m.same.query_ms}});

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "demo_opposite.hpp"
 #include "loopscan/report/heatmap.hpp"
 #include "loopscan/report/plot.hpp"
 #include "loopscan/report/pr_plot.hpp"
@@ -128,6 +129,21 @@ report::HtmlPage demo_page(const DemoResults& r) {
                       fixed(m.same.query_ms, 3)});
   }
   page.tables.push_back(t);
+  report::Table d;
+  d.caption =
+      "By direction of the revisit (top-1 correct / ground-truth loops, AUC): same direction = "
+      "headings less than 90 degrees apart";
+  d.header = {"method",    "session pair",    "same: top-1",
+              "same: AUC", "opposite: top-1", "opposite: AUC"};
+  for (const MethodResult& m : r.methods) {
+    for (const auto& [name, split] : {std::pair{"summer vs summer", &m.same_by_direction},
+                                      std::pair{"winter vs summer", &m.cross_by_direction}}) {
+      std::vector<std::string> row = {method_name(m.method), name};
+      for (std::string& c : direction_cells(*split)) row.push_back(std::move(c));
+      d.rows.push_back(std::move(row));
+    }
+  }
+  page.tables.push_back(d);
   page.figures.push_back(
       {"Precision-recall, summer vs summer", pr_figure(r, false, "Same season")});
   page.figures.push_back(
@@ -135,6 +151,7 @@ report::HtmlPage demo_page(const DemoResults& r) {
   page.figures.push_back({"Route and recognised places", route_figure(r)});
   page.figures.push_back({"One imitated scan", scan_figure(r.example)});
   page.figures.push_back({"Its Scan Context", scan_context_figure(r.example)});
+  page.figures.insert(page.figures.end(), r.opposite.begin(), r.opposite.end());
   return page;
 }
 

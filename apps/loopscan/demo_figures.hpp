@@ -3,6 +3,7 @@
 #include <vector>
 
 #include "loopscan/core/pipeline/describe_sequence.hpp"
+#include "loopscan/eval/direction_split.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/sim/vo_simulator.hpp"
@@ -12,6 +13,7 @@ namespace loopscan::cli {
 struct MethodResult {
   Method method = Method::ScanContext;
   eval::PlaceEvaluation same, cross;
+  eval::DirectionSplit same_by_direction, cross_by_direction;
   std::vector<Eigen::Vector3d> query_positions;  // cross-season queries (winter keyframes)
   double imitate_ms = 0, describe_ms = 0;
 };
@@ -26,6 +28,7 @@ struct DemoResults {
   const sim::Trajectory* route = nullptr;
   std::vector<MethodResult> methods;
   ExampleScan example;
+  std::vector<report::Figure> opposite;  // one reverse revisit's scans (demo_opposite.hpp)
 };
 
 // The imitated scan and Scan Context of the keyframe in the middle of the session.

@@ -161,6 +161,49 @@ TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
   EXPECT_FALSE(fs::exists(d / "x.db"));
 }
 
+// builtin:reverse drives a street east, then west in the other lane: the places described
+// from the next lanes (--lateral-offset) make db query recognise the reverse drive.
+TEST(Cli, DbQueryWithLaneVersionsRecognisesAReverseDrive) {
+  const fs::path d = temp_dir("reverse");
+  const std::string sim = (d / "sim").string();
+  ASSERT_EQ(run("simulate --trajectory builtin:reverse --season summer --seed 3 --out " + sim).code,
+            0);
+  const std::string vo = " --method sc --poses " + sim + "/poses_history_file.txt --points " + sim +
+                         "/pts_history_file.txt --lookahead 20 --frame camera";
+  for (const std::string off : {"0", "-3.5", "3.5"}) {
+    const CliResult r =
+        run("describe" + vo + " --lateral-offset " + off + " --out " + (d / off).string());
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  ASSERT_EQ(run("db build --signatures " + (d / "0").string() + " --gt " + sim + "/gt.txt --out " +
+                (d / "map.db").string())
+                .code,
+            0);
+  auto opposite_top1 = [&](const std::string& lanes, int& loops) {
+    const fs::path out = d / ("q" + std::to_string(lanes.size()));
+    const CliResult r = run("db query --db " + (d / "map.db").string() + " --signatures " +
+                            (d / "0").string() + lanes + " --exact --k 1 --mask 100 " +
+                            "--threshold 10 --gt " + sim + "/gt.txt --out " + out.string());
+    EXPECT_EQ(r.code, 0) << r.output;
+    nlohmann::json m;
+    std::ifstream(out / "metrics.json") >> m;
+    loops = m["by_direction"]["opposite"]["n_loops"].get<int>();
+    return m["by_direction"]["opposite"]["top1_correct"].get<int>();
+  };
+  int loops = 0;
+  const int without = opposite_top1("", loops);
+  const int with =
+      opposite_top1(" --lanes " + (d / "-3.5").string() + " " + (d / "3.5").string(), loops);
+  ASSERT_GT(loops, 50);
+  EXPECT_GE(with, 0.4 * loops) << with << " of " << loops;
+  EXPECT_GE(with, 2 * without) << without << " without lane versions";
+  // A lane version must describe the same places.
+  EXPECT_EQ(run("db query --db " + (d / "map.db").string() + " --signatures " + (d / "0").string() +
+                " --lanes " + sim + " --out " + (d / "bad").string())
+                .code,
+            2);
+}
+
 TEST(Cli, RenderWritesTheKittiOdometryLayout) {
   const fs::path d = temp_dir("render");
   const CliResult r =

@@ -20,6 +20,7 @@ struct Trajectory {
 //  "city":  ~2 km through a street grid with several revisits, one street driven again in the
 //           opposite direction, turns as circular arcs (smooth heading, no teleports).
 //  "short": ~350 m, a block driven once and partly again, for tests.
+//  "reverse": ~520 m, a street driven east, then its western half west (reverse revisits).
 // Any other name -> std::invalid_argument listing the names.
 Trajectory make_builtin_trajectory(const std::string& name);
 std::vector<std::string> builtin_trajectory_names();

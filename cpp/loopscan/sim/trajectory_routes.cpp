@@ -144,13 +144,21 @@ Trajectory make_short() {
                       grid_route({{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0, 0}, {1, 0}}, 80.0, 60.0));
 }
 
+Trajectory make_reverse() {
+  // East along a 200 m street, around the block to the north, then the street's western
+  // half again westwards: 100 m of reverse revisits in the other lane. ~520 m.
+  return sample_route("reverse",
+                      grid_route({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 0}, {0, 0}}, 100.0, 60.0));
+}
+
 }  // namespace
 
-std::vector<std::string> builtin_trajectory_names() { return {"city", "short"}; }
+std::vector<std::string> builtin_trajectory_names() { return {"city", "short", "reverse"}; }
 
 Trajectory make_builtin_trajectory(const std::string& name) {
   if (name == "city") return make_city();
   if (name == "short") return make_short();
+  if (name == "reverse") return make_reverse();
   std::string names;
   for (const std::string& n : builtin_trajectory_names()) names += (names.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown built-in trajectory '" + name + "'; known: " + names);

@@ -2,6 +2,9 @@
 
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 
+#include <cmath>
+#include <stdexcept>
+
 namespace loopscan {
 
 RecognizerConfig RecognizerConfig::make(Method method, Mode mode, double range_m) {
@@ -20,7 +23,18 @@ Recognizer::Recognizer(const RecognizerConfig& config)
     : Recognizer(config, Database(config.database)) {}
 
 Recognizer::Recognizer(const RecognizerConfig& config, Database map)
-    : config_(config), imitator_(config.imitation), db_(std::move(map)) {}
+    : config_(config), imitator_(config.imitation), db_(std::move(map)) {
+  if (config.lane_offset_m != 0 &&
+      (config.method != Method::ScanContext ||
+       config.descriptors.scan_context.frame != DescriptorFrame::Camera ||
+       config.descriptors.scan_context.mode != Mode::Default)) {
+    throw std::invalid_argument(
+        "RecognizerConfig: lane_offset_m needs Scan Context in the camera frame (default mode)");
+  }
+  if (!(std::abs(config.lane_offset_m) <= 100.0)) {
+    throw std::invalid_argument("RecognizerConfig: lane_offset_m must be finite, |x| <= 100 m");
+  }
+}
 
 std::vector<KeyframeResult> Recognizer::add_keyframe(const KeyframePose& keyframe,
                                                      const IdPoint* points, std::size_t n_points,
@@ -48,7 +62,18 @@ KeyframeResult Recognizer::recognise(const ReadyScan& ready) {
   place.signature = describe(config_.method, ready.scan, config_.descriptors, &place.frame);
   // 3. Query the map, 4. then join it.
   result.keyframe = ready.keyframe.id;
-  result.matches = db_.query(place, config_.k, config_.query);
+  std::vector<PlaceDescriptor> versions;
+  if (config_.lane_offset_m != 0) {
+    for (const double side : {-1.0, 1.0}) {
+      DescriptorConfig shifted = config_.descriptors;
+      shifted.scan_context.lateral_offset_m = side * config_.lane_offset_m;
+      PlaceDescriptor v;
+      v.signature = describe(config_.method, ready.scan, shifted, &v.frame);
+      versions.push_back(std::move(v));
+    }
+  }
+  result.matches =
+      query_with_lane_versions(db_, place, versions, config_.k, config_.query, config_.lanes);
   db_.add({config_.session, ready.keyframe.id}, place, ready.keyframe.T_cam_world);
   return result;
 }

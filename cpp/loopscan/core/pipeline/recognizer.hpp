@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "loopscan/core/database/database.hpp"
+#include "loopscan/core/database/lane_query.hpp"
 #include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/scan/scan_imitator.hpp"
 
@@ -18,6 +19,11 @@ struct RecognizerConfig {
   QueryOptions query;  // default: skip the 99 places added last (the paper's 100-place mask)
   int k = 1;
   int session = 0;  // session of the places this recognizer adds
+  // Reverse drives in the other lane (Scan Context in the camera frame only): each place is
+  // also described lane_offset_m to either side and those versions queried for places seen
+  // the other way round (lane_query.hpp). 0: off.
+  double lane_offset_m = 0.0;
+  LaneQueryOptions lanes;
   // Consistent settings for a method and mode (the paper: 45 m).
   static RecognizerConfig make(Method method, Mode mode = Mode::Default, double range_m = 45.0);
 };
