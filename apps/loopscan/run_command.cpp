@@ -24,6 +24,7 @@
 #include "loopscan/report/pr_plot.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
+#include "run_report.hpp"
 #include "signature_outputs.hpp"
 #include "vo_outputs.hpp"
 
@@ -36,24 +37,6 @@ struct RunArgs {
   std::vector<std::string> methods = {"sc", "m2dp", "delight", "gist"};
   int threads = 2;
 };
-
-// One method's outcome, LiDAR-style (from the VO's points) or image baseline (left images).
-struct MethodRun {
-  std::string name;
-  std::vector<int> keyframe_ids;  // the places
-  eval::PrResult pr;
-  bool evaluated = false;
-  double prepare_ms = 0;   // imitate (LiDAR-style) / ORB or GIST extraction (images)
-  double describe_ms = 0;  // describe / BoW transform
-  double query_ms = 0;
-};
-
-void write_method_evaluation(const MethodRun& r, const std::string& dir, Mode mode) {
-  nlohmann::json metrics = {
-      {"method", r.name}, {"mode", mode_name(mode)}, {"query_ms", r.query_ms}};
-  metrics.update(pr_metrics(r.pr));
-  write_evaluation(dir, r.keyframe_ids, r.keyframe_ids, r.pr, metrics, r.name);
-}
 
 std::string fixed(double x, int digits) {
   char buf[64];
@@ -95,9 +78,10 @@ void run_all(const RunArgs& a) {
   std::printf("[1/3] stereo VO on %s\n", a.vo.kitti.c_str());
   const VoResult vo = run_vo_and_write(vo_args);
   std::vector<Eigen::Vector3d> gt_by_frame;  // per trajectory entry
-  std::vector<Eigen::Vector3d> gt_rows;
+  std::vector<Eigen::Vector3d> gt_rows, gt_forward;  // per frame id: position, heading
   if (!vo.gt_path.empty()) {
     for (const auto& T : vo.gt_poses) gt_rows.push_back(T.col(3));
+    for (const auto& T : vo.gt_poses) gt_forward.push_back(T.col(2));
     for (int f : vo.run.frame_ids) gt_by_frame.push_back(gt_rows[static_cast<std::size_t>(f)]);
   } else {
     std::printf("no ground truth (%s/poses.txt or --gt): describing without evaluation\n",
@@ -125,6 +109,13 @@ void run_all(const RunArgs& a) {
       std::vector<Eigen::Vector3d> positions;
       for (int id : ids) positions.push_back(gt_rows[static_cast<std::size_t>(id)]);
       return positions;
+    };
+    auto split = [&](const std::vector<int>& ids) {  // same- vs opposite-direction revisits
+      std::vector<Eigen::Vector3d> headings;
+      for (int id : ids) headings.push_back(gt_forward[static_cast<std::size_t>(id)]);
+      const std::vector<Eigen::Vector3d> positions = positions_of(ids);
+      return eval::split_by_direction(r.pr, positions, positions, headings, headings,
+                                      eval::same_session_protocol());
     };
     if (!is_image_method(name)) {
       const Method method = parse_method(name);
@@ -155,6 +146,7 @@ void run_all(const RunArgs& a) {
             eval::evaluate_places(sig.signatures, sig.signatures, positions, positions, eo);
         r.pr = ev.pr;
         r.query_ms = ev.query_ms;
+        r.by_direction = split(r.keyframe_ids);
         r.evaluated = true;
       }
     } else {
@@ -178,6 +170,7 @@ void run_all(const RunArgs& a) {
         r.pr = eval::evaluate_matches(m.matches, positions, positions,
                                       eval::same_session_protocol(), mode == Mode::Reference);
         r.query_ms = m.query_ms;
+        r.by_direction = split(r.keyframe_ids);
         r.evaluated = true;
       }
     }
@@ -222,36 +215,7 @@ void run_all(const RunArgs& a) {
                       cell(m["path_length_m"], 0)});
     page.tables.push_back(t);
   }
-  report::Table places_table{"Accuracy (same session: 10 m, |i - j| >= 100)",
-                             {"method", "AUC", "recall@100%P", "F1 max", "GT loops", "places"},
-                             {}};
-  report::Table times{
-      "Run time per keyframe (ms, one thread)", {"method", "prepare", "describe", "query"}, {}};
-  std::vector<report::Series> curves;
-  for (const MethodRun& r : runs) {
-    const eval::PrResult& pr = r.pr;
-    std::printf("%-8s %8.4f %8.4f %8.4f %9d %7zu %11.3f %11.3f %10.3f\n", r.name.c_str(), pr.auc,
-                pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops, r.keyframe_ids.size(),
-                r.prepare_ms, r.describe_ms, r.query_ms);
-    summary["methods"].push_back({{"method", r.name},
-                                  {"places", r.keyframe_ids.size()},
-                                  {"evaluated", r.evaluated},
-                                  {"auc", pr.auc},
-                                  {"recall_at_100_precision", pr.recall_at_100_precision},
-                                  {"f1_max", pr.f1_max},
-                                  {"n_gt_loops", pr.n_gt_loops},
-                                  {"prepare_ms", r.prepare_ms},
-                                  {"describe_ms", r.describe_ms},
-                                  {"query_ms", r.query_ms}});
-    places_table.rows.push_back({r.name, fixed(pr.auc, 4), fixed(pr.recall_at_100_precision, 4),
-                                 fixed(pr.f1_max, 4), std::to_string(pr.n_gt_loops),
-                                 std::to_string(r.keyframe_ids.size())});
-    times.rows.push_back(
-        {r.name, fixed(r.prepare_ms, 3), fixed(r.describe_ms, 3), fixed(r.query_ms, 3)});
-    if (r.evaluated) curves.push_back(report::pr_series(pr.curve, r.name));
-  }
-  page.tables.push_back(places_table);
-  page.tables.push_back(times);
+  std::vector<report::Series> curves = add_method_results(runs, page, summary);
   page.tables.push_back(closing_table(closing));
   page.figures.push_back(trajectory_figure(vo, gt_by_frame));
   page.figures.push_back({"Loop closing: keyframes before and after, accepted loops", closing_svg});

@@ -64,6 +64,11 @@ TEST(Cli, VoAndRunFromRenderedImages) {
     EXPECT_EQ(m["evaluated"].get<bool>(), m["places"].get<int>() > 0);
     EXPECT_EQ(fs::exists(d / "run" / m["method"].get<std::string>() / "metrics.json"),
               m["evaluated"].get<bool>());
+    if (m["evaluated"].get<bool>()) {  // split by the direction of the revisit
+      EXPECT_EQ(m["by_direction"]["same"]["n_loops"].get<int>() +
+                    m["by_direction"]["opposite"]["n_loops"].get<int>(),
+                m["n_gt_loops"].get<int>());
+    }
   }
   EXPECT_FALSE(has_temp_files(d));
   // Bad input: exit code 2, the file named, nothing written.
