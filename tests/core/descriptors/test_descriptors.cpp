@@ -105,9 +105,12 @@ TEST(M2dp, CountsAddUpAndSingularPairMatchesJacobi) {
   M2dpConfig cfg;
   const Cloud aligned = pca_align(test::street_cloud(3, 2000), Mode::Default);
   const M2dpMatrices m = m2dp_matrices(aligned, cfg);
-  // Every point within the max radius lands in exactly one bin of every plane.
-  for (Eigen::Index k = 0; k < m.count.rows(); ++k) EXPECT_LE(m.count.row(k).sum(), 2000.0);
-  EXPECT_GT(m.count.sum(), 0.9 * 2000 * 64);
+  // Default mode keeps log(1 + count): back to counts, every point within the max radius lands
+  // in exactly one bin of every plane.
+  const Eigen::MatrixXd counts = m.count.array().exp() - 1.0;
+  EXPECT_LT((counts.array() - counts.array().round()).abs().maxCoeff(), 1e-9);
+  for (Eigen::Index k = 0; k < counts.rows(); ++k) EXPECT_LE(counts.row(k).sum(), 2000.0 + 1e-6);
+  EXPECT_GT(counts.sum(), 0.9 * 2000 * 64);
   for (const Eigen::MatrixXd* a : {&m.count, &m.gray}) {
     const SingularPair fast = leading_singular_pair(*a, Mode::Default);
     const SingularPair exact = leading_singular_pair(*a, Mode::Reference);

@@ -147,10 +147,13 @@ M2dpMatrices m2dp_matrices(const Cloud& aligned, const M2dpConfig& config) {
   }
   M2dpMatrices m{Eigen::MatrixXd(planes, bins), Eigen::MatrixXd(planes, bins)};
   const double mean = cloud_gray_mean(aligned, config.mode);
+  // Default mode compresses log(1 + count): with raw counts the singular vectors follow the
+  // densest bins, whose density is what two VO runs share least.
+  const bool log_counts = config.mode == Mode::Default;
   for (Eigen::Index k = 0; k < planes; ++k) {
     for (Eigen::Index b = 0; b < bins; ++b) {
       const double c = count[k * bins + b], g = gray[k * bins + b];
-      m.count(k, b) = c;
+      m.count(k, b) = log_counts ? std::log1p(c) : c;
       m.gray(k, b) = c > 0 ? (g / c > mean ? 1.0 : 0.0) : 0.0;
     }
   }

@@ -9,7 +9,9 @@
 namespace loopscan {
 
 struct M2dpMatrices {
-  Eigen::MatrixXd count;  // planes x (radial * azimuth), column = ring * azimuth_bins + sector
+  // planes x (radial * azimuth), column = ring * azimuth_bins + sector; point counts
+  // (reference mode) or log(1 + count) (default mode)
+  Eigen::MatrixXd count;
   Eigen::MatrixXd gray;   // same shape, binarized mean gray (0/1)
 };
 
