@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
+#include <unordered_set>
 
 namespace loopscan {
 
@@ -26,10 +26,10 @@ std::vector<Candidate> query_with_lane_versions(const Database& db, const PlaceD
   std::stable_sort(all.begin(), all.end(),
                    [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
   std::vector<Candidate> out;
-  std::unordered_map<std::size_t, bool> seen;
+  std::unordered_set<std::size_t> seen;
   for (const Candidate& c : all) {
     if (static_cast<int>(out.size()) >= k) break;
-    if (seen.emplace(c.index, true).second) out.push_back(c);
+    if (seen.insert(c.index).second) out.push_back(c);
   }
   return out;
 }
