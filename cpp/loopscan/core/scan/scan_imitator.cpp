@@ -140,9 +140,10 @@ void ScanImitator::crop_reference(const KeyframePose& keyframe, Cloud& in_range)
   local_.resize(kept);
 }
 
-void ScanImitator::crop_fast(const KeyframePose& keyframe, CameraPoints& in_range) {
+void ScanImitator::crop_fast(const KeyframePose& keyframe, CameraPoints& in_range,
+                             bool forget_out_of_range) {
   // 4. Crop in single precision: transform every point (a loop the compiler vectorises), then
-  //    compact the camera-frame output and the world map together.
+  //    compact the camera-frame output (and the world map, when out-of-range points leave it).
   float R[9], t[3];
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) R[3 * r + c] = static_cast<float>(keyframe.T_cam_world(r, c));
@@ -162,14 +163,16 @@ void ScanImitator::crop_fast(const KeyframePose& keyframe, CameraPoints& in_rang
     cy[kept] = cy[i];
     cz[kept] = cz[i];
     in_range.gray[kept] = world_.gray[i];
-    world_.x[kept] = wx[i];
-    world_.y[kept] = wy[i];
-    world_.z[kept] = wz[i];
-    world_.gray[kept] = world_.gray[i];
+    if (forget_out_of_range) {  // loop-invariant: the compiler unswitches it
+      world_.x[kept] = wx[i];
+      world_.y[kept] = wy[i];
+      world_.z[kept] = wz[i];
+      world_.gray[kept] = world_.gray[i];
+    }
     kept += inside;  // branch-free compaction: always write, advance only when kept
   }
   in_range.resize(kept);
-  world_.resize(kept);
+  if (forget_out_of_range) world_.resize(kept);
 }
 
 Cloud filter_scan(const Cloud& in_range, ScanFilter filter, const ImitationConfig& config) {

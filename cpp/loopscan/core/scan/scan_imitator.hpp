@@ -81,7 +81,10 @@ class ScanImitator {
   // Step 4, crop: out-of-range points leave the map for good. Reference mode in double with
   // the authors' arithmetic; default mode in float SoA.
   void crop_reference(const KeyframePose& keyframe, Cloud& in_range);
-  void crop_fast(const KeyframePose& keyframe, CameraPoints& in_range);
+  // forget_out_of_range = false: the two-sided crop around a waiting keyframe, which leaves the
+  // map as it is (prune_two_sided decides what leaves it).
+  void crop_fast(const KeyframePose& keyframe, CameraPoints& in_range,
+                 bool forget_out_of_range = true);
 
   struct Pending {
     KeyframePose keyframe;

@@ -33,18 +33,11 @@ Eigen::Vector3d centre_of(const KeyframePose& k) {
 
 void ScanImitator::push(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
                         bool reset, ScanFilter filter, std::vector<ReadyScan>& ready) {
-  if (!two_sided()) {
+  if (!two_sided()) {  // forward-only: this keyframe's scan, as next_scan gives it
     ReadyScan r;
-    if (config_.mode == Mode::Reference) {
-      if (!add_keyframe(keyframe, points, n_points, reset, in_range_)) return;
-      r.scan = filter_scan(in_range_, filter, config_);
-      r.in_range = to_camera_points(in_range_);
-    } else {
-      if (!add_keyframe(keyframe, points, n_points, reset, in_range_fast_)) return;
-      r.scan = filter_camera_points(in_range_fast_, filter, config_);
-      r.in_range = in_range_fast_;
-    }
+    if (!next_scan(keyframe, points, n_points, reset, filter, r.scan)) return;
     r.keyframe = keyframe;
+    r.in_range = config_.mode == Mode::Reference ? to_camera_points(in_range_) : in_range_fast_;
     ready.push_back(std::move(r));
     return;
   }
@@ -73,26 +66,10 @@ void ScanImitator::finish(ScanFilter filter, std::vector<ReadyScan>& ready) {
 
 void ScanImitator::emit_two_sided(const Pending& p, ScanFilter filter,
                                   std::vector<ReadyScan>& ready) {
-  const FloatPose T(p.keyframe.T_cam_world);
-  const float range2 = static_cast<float>(config_.range_m * config_.range_m);
   ReadyScan r;
   r.keyframe = p.keyframe;
-  CameraPoints& out = r.in_range;
-  out.resize(world_.size());
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < world_.size(); ++i) {
-    const float x = world_.x[i], y = world_.y[i], z = world_.z[i];
-    const float cx = T.R[0] * x + T.R[1] * y + T.R[2] * z + T.t[0];
-    const float cy = T.R[3] * x + T.R[4] * y + T.R[5] * z + T.t[1];
-    const float cz = T.R[6] * x + T.R[7] * y + T.R[8] * z + T.t[2];
-    out.x[kept] = cx;
-    out.y[kept] = cy;
-    out.z[kept] = cz;
-    out.gray[kept] = world_.gray[i];
-    kept += cx * cx + cy * cy + cz * cz < range2;
-  }
-  out.resize(kept);
-  r.scan = filter_camera_points(out, filter, config_);
+  crop_fast(p.keyframe, r.in_range, false);
+  r.scan = filter_camera_points(r.in_range, filter, config_);
   ready.push_back(std::move(r));
 }
 
