@@ -7,19 +7,9 @@ namespace {
 
 // The walk of evaluate_matches over a subset of its ranking, with its own recall denominator.
 void finish(DirectionMetrics& d) {
-  PrResult& r = d.pr;
-  r.n_gt_loops = d.n_loops;
-  r.n_queries = static_cast<int>(r.ranked.size());
-  if (d.n_loops == 0) return;
-  int tp = 0;
-  for (std::size_t k = 0; k < r.ranked.size(); ++k) {
-    if (r.ranked[k].is_true) ++tp;
-    r.curve.push_back({static_cast<double>(tp) / static_cast<double>(k + 1),
-                       static_cast<double>(tp) / static_cast<double>(d.n_loops)});
-  }
-  r.auc = trapezoid_auc(r.curve);
-  r.recall_at_100_precision = recall_at_full_precision(r.curve);
-  r.f1_max = f1_max(r.curve);
+  d.pr.n_gt_loops = d.n_loops;
+  d.pr.n_queries = static_cast<int>(d.pr.ranked.size());
+  walk_ranking(d.pr);
 }
 
 }  // namespace

@@ -47,6 +47,23 @@ double f1_max(const std::vector<PrPoint>& curve) {
   return best;
 }
 
+void walk_ranking(PrResult& result) {
+  result.curve.clear();
+  // Without ground-truth loops recall is undefined: keep the ranking, report no curve.
+  if (result.n_gt_loops == 0) return;
+  result.curve.reserve(result.ranked.size());
+  int tp = 0;
+  for (std::size_t k = 0; k < result.ranked.size(); ++k) {
+    if (result.ranked[k].is_true) ++tp;
+    const double precision = static_cast<double>(tp) / static_cast<double>(k + 1);
+    const double recall = static_cast<double>(tp) / static_cast<double>(result.n_gt_loops);
+    result.curve.push_back({precision, recall});
+  }
+  result.auc = trapezoid_auc(result.curve);
+  result.recall_at_100_precision = recall_at_full_precision(result.curve);
+  result.f1_max = f1_max(result.curve);
+}
+
 PrResult evaluate_matches(const std::vector<QueryMatch>& matches,
                           const std::vector<Eigen::Vector3d>& query_pos,
                           const std::vector<Eigen::Vector3d>& db_pos, const Protocol& protocol,
@@ -72,20 +89,7 @@ PrResult evaluate_matches(const std::vector<QueryMatch>& matches,
         match_valid && within_threshold(query_pos[m.query], db_pos[m.match], protocol);
     result.ranked.push_back({m, is_true});
   }
-  // Without ground-truth loops recall is undefined: keep the ranking, report no curve.
-  if (result.n_gt_loops == 0) return result;
-
-  result.curve.reserve(order.size());
-  int tp = 0;
-  for (std::size_t k = 0; k < result.ranked.size(); ++k) {
-    if (result.ranked[k].is_true) ++tp;
-    const double precision = static_cast<double>(tp) / static_cast<double>(k + 1);
-    const double recall = static_cast<double>(tp) / static_cast<double>(result.n_gt_loops);
-    result.curve.push_back({precision, recall});
-  }
-  result.auc = trapezoid_auc(result.curve);
-  result.recall_at_100_precision = recall_at_full_precision(result.curve);
-  result.f1_max = f1_max(result.curve);
+  walk_ranking(result);
   return result;
 }
 

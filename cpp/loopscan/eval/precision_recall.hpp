@@ -39,6 +39,10 @@ PrResult evaluate_matches(const std::vector<QueryMatch>& matches,
                           const std::vector<Eigen::Vector3d>& db_pos, const Protocol& protocol,
                           bool reference_quirks = false);
 
+// The walk down a ranking: fills `curve`, `auc`, `recall_at_100_precision` and `f1_max` of
+// `result` from its `ranked` matches and `n_gt_loops` (nothing when that is 0).
+void walk_ranking(PrResult& result);
+
 // Metrics over a curve in walk order; shared with the report so plots match the numbers.
 // Trapezoid integral of precision over recall from the first point (not from recall 0).
 double trapezoid_auc(const std::vector<PrPoint>& curve);
