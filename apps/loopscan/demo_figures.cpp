@@ -4,18 +4,13 @@
 #include <limits>
 
 #include "demo_opposite.hpp"
+#include "evaluation_outputs.hpp"
 #include "loopscan/report/heatmap.hpp"
 #include "loopscan/report/plot.hpp"
 #include "loopscan/report/pr_plot.hpp"
 
 namespace loopscan::cli {
 namespace {
-
-std::string fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
 
 std::string pr_figure(const DemoResults& r, bool cross, const std::string& title) {
   std::vector<report::Series> curves;
@@ -90,22 +85,13 @@ std::string scan_context_figure(const ExampleScan& e) {
 
 ExampleScan example_scan(const sim::VoOutput& vo, const SequenceOptions& options) {
   ExampleScan e;
-  ScanImitator imitator(options.imitation);
-  Cloud in_range;
-  std::size_t next = 0;
-  const std::size_t target = vo.poses.size() / 2;
-  for (std::size_t k = 0; k < vo.poses.size(); ++k) {
-    const std::size_t first = next;
-    while (next < vo.points.size() && vo.points[next].id <= vo.poses[k].id) ++next;
-    const bool described =
-        imitator.add_keyframe(vo.poses[k], vo.points.data() + first, next - first, false, in_range);
-    if (described && k >= target) {
-      e.keyframe_id = vo.poses[k].id;
-      e.scan = filter_scan(in_range, ScanFilter::Cartesian, options.imitation);
-      e.scan_context = describe(Method::ScanContext, e.scan, options.descriptors);
-      break;
-    }
-  }
+  if (vo.poses.empty()) return e;
+  const int middle = vo.poses[vo.poses.size() / 2].id;
+  std::map<int, Cloud> scans = scans_at(vo, options.imitation, {middle});
+  if (scans.empty()) return e;
+  e.keyframe_id = middle;
+  e.scan = std::move(scans[middle]);
+  e.scan_context = describe(Method::ScanContext, e.scan, options.descriptors);
   return e;
 }
 

@@ -1,35 +1,38 @@
 #include "demo_opposite.hpp"
 
+#include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "loopscan/report/plot.hpp"
 
 namespace loopscan::cli {
-namespace {
 
-// The scan (camera frame, Cartesian-filtered) the imitation gives `keyframe_id`.
-Cloud scan_of(const sim::VoOutput& vo, const ImitationConfig& imitation, int keyframe_id) {
+std::map<int, Cloud> scans_at(const sim::VoOutput& vo, const ImitationConfig& imitation,
+                              const std::vector<int>& keyframe_ids) {
+  std::map<int, Cloud> out;
   ScanImitator imitator(imitation);
   std::vector<ReadyScan> ready;
-  std::size_t next = 0;
-  auto found = [&]() -> const ReadyScan* {
-    for (const ReadyScan& r : ready) {
-      if (r.keyframe.id == keyframe_id) return &r;
+  auto take = [&] {
+    for (ReadyScan& r : ready) {
+      if (std::find(keyframe_ids.begin(), keyframe_ids.end(), r.keyframe.id) != keyframe_ids.end())
+        out[r.keyframe.id] = std::move(r.scan);
     }
     ready.clear();
-    return nullptr;
   };
+  std::size_t next = 0;
   for (const KeyframePose& k : vo.poses) {
+    if (out.size() == keyframe_ids.size()) return out;
     const std::size_t first = next;
     while (next < vo.points.size() && vo.points[next].id <= k.id) ++next;
     imitator.push(k, vo.points.data() + first, next - first, false, ScanFilter::Cartesian, ready);
-    if (const ReadyScan* r = found()) return r->scan;
+    take();
   }
   imitator.finish(ScanFilter::Cartesian, ready);
-  const ReadyScan* r = found();
-  return r ? r->scan : Cloud{};
+  take();
+  return out;
 }
+
+namespace {
 
 report::Series world_series(const Cloud& scan, const Eigen::Isometry3d& T_world_cam,
                             const std::string& name, const std::string& color) {
@@ -58,11 +61,11 @@ std::string figure(const sim::Trajectory& route, const sim::VoOutput& vo, std::p
                    const ImitationConfig& imitation, const std::string& title) {
   const Eigen::Isometry3d& A = route.T_world_cam[static_cast<std::size_t>(p.first)];
   const Eigen::Isometry3d& B = route.T_world_cam[static_cast<std::size_t>(p.second)];
+  std::map<int, Cloud> scans = scans_at(vo, imitation, {p.first, p.second});
   const std::vector<report::Series> series = {
-      world_series(scan_of(vo, imitation, p.first), A,
-                   "first drive, keyframe " + std::to_string(p.first), "#1f77b4"),
-      world_series(scan_of(vo, imitation, p.second), B,
-                   "return, keyframe " + std::to_string(p.second), "#ff7f0e"),
+      world_series(scans[p.first], A, "first drive, keyframe " + std::to_string(p.first),
+                   "#1f77b4"),
+      world_series(scans[p.second], B, "return, keyframe " + std::to_string(p.second), "#ff7f0e"),
       camera_series(A, "camera and heading, first drive", "#08306b"),
       camera_series(B, "camera and heading, return", "#d62728")};
   report::PlotOptions o;
@@ -117,20 +120,6 @@ std::vector<report::Figure> opposite_figures(const sim::Trajectory& route, const
           {"The same revisit with two-sided scans (--lookahead 20)",
            figure(route, vo, pair, two_sided,
                   "Two-sided scans of the same place (world frame, top view)")}};
-}
-
-std::vector<std::string> direction_cells(const eval::DirectionSplit& s) {
-  auto cell = [](const eval::DirectionMetrics& d) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%d / %d", d.top1_correct, d.n_loops);
-    return std::string(buf);
-  };
-  auto auc = [](const eval::DirectionMetrics& d) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.4f", d.pr.auc);
-    return std::string(buf);
-  };
-  return {cell(s.same), auc(s.same), cell(s.opposite), auc(s.opposite)};
 }
 
 }  // namespace loopscan::cli

@@ -1,16 +1,21 @@
 #pragma once
 // The demo's look at one opposite-direction revisit: the two drives' scans of the same place,
 // side by side in the world, as the paper's forward-only scan and as a two-sided scan.
+#include <map>
 #include <string>
 #include <vector>
 
 #include "loopscan/core/pipeline/describe_sequence.hpp"
-#include "loopscan/eval/direction_split.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/sim/trajectory.hpp"
 #include "loopscan/sim/vo_simulator.hpp"
 
 namespace loopscan::cli {
+
+// The scans (camera frame, Cartesian-filtered) the imitation gives these keyframes, in one pass
+// over the drive; a keyframe without a scan is missing from the map.
+std::map<int, Cloud> scans_at(const sim::VoOutput& vo, const ImitationConfig& imitation,
+                              const std::vector<int>& keyframe_ids);
 
 // Forward direction (camera z in the world) of each keyframe id.
 std::vector<Eigen::Vector3d> headings_of(const sim::Trajectory& route, const std::vector<int>& ids);
@@ -24,8 +29,5 @@ std::pair<int, int> opposite_revisit(const sim::Trajectory& route, const std::ve
 // Figures of the pair: each scan in the world frame (ground truth), forward-only and two-sided.
 std::vector<report::Figure> opposite_figures(const sim::Trajectory& route, const sim::VoOutput& vo,
                                              std::pair<int, int> pair);
-
-// The per-direction rows of one evaluation: same / opposite top-1 and AUC.
-std::vector<std::string> direction_cells(const eval::DirectionSplit& split);
 
 }  // namespace loopscan::cli

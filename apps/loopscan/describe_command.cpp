@@ -24,8 +24,8 @@ struct DescribeArgs {
   ImageDescribeArgs images;  // --method gist | bow
   double range_m = 45.0;
   int threads = 1;
-  double lookahead_m = -1;  // <0: the mode's default
-  std::string frame;        // empty: the mode's default
+  double lookahead_m = 0;  // forward-only, the paper's scan
+  std::string frame = "pca";
   double lateral_offset_m = 0;
 };
 
@@ -57,18 +57,13 @@ void run_describe(const DescribeArgs& a) {
 
   SequenceOptions options = SequenceOptions::make(method, mode, a.range_m);
   options.threads = std::max(1, a.threads);
-  if (a.lookahead_m >= 0) {
-    if (mode == Mode::Reference && a.lookahead_m > 0)
-      throw std::invalid_argument("--lookahead: reference mode is the paper's forward-only scan");
-    options.imitation.lookahead_m = a.lookahead_m;
-  }
-  if (!a.frame.empty()) {
-    if (mode == Mode::Reference && a.frame != "pca")
-      throw std::invalid_argument("--frame: reference mode is the paper's PCA frame");
-    const DescriptorFrame f = parse_descriptor_frame(a.frame);
-    options.descriptors.scan_context.frame = options.descriptors.m2dp.frame =
-        options.descriptors.delight.frame = f;
-  }
+  if (mode == Mode::Reference && a.lookahead_m > 0)
+    throw std::invalid_argument("--lookahead: reference mode is the paper's forward-only scan");
+  if (mode == Mode::Reference && a.frame != "pca")
+    throw std::invalid_argument("--frame: reference mode is the paper's PCA frame");
+  options.imitation.lookahead_m = a.lookahead_m;
+  options.descriptors.scan_context.frame = options.descriptors.m2dp.frame =
+      options.descriptors.delight.frame = parse_descriptor_frame(a.frame);
   if (a.lateral_offset_m != 0) {
     if (method != Method::ScanContext ||
         options.descriptors.scan_context.frame != DescriptorFrame::Camera)
@@ -93,7 +88,7 @@ void run_describe(const DescribeArgs& a) {
       {"mode", mode_name(mode)},
       {"range_m", a.range_m},
       {"lookahead_m", options.imitation.lookahead_m},
-      {"frame", a.frame.empty() ? "pca" : a.frame},
+      {"frame", a.frame},
       {"filter", filter_for(method) == ScanFilter::Cartesian ? "cartesian" : "polar"},
       {"n_keyframes", poses.size()},
       {"n_signatures", result.signatures.size()},
@@ -135,12 +130,12 @@ void add_describe_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--lookahead", args->lookahead_m,
                   "two-sided scans: describe a keyframe D m later (0: forward-only, the paper)")
-      ->check(CLI::Range(0.0, 1000.0));
+      ->check(finite_in(0.0, 1000.0));
   cmd->add_option("--frame", args->frame,
                   "descriptor frame: pca | camera | gravity-pca | centroid");
   cmd->add_option("--lateral-offset", args->lateral_offset_m,
                   "sc, --frame camera: centre the descriptor X m right of the keyframe")
-      ->check(CLI::Range(-100.0, 100.0));
+      ->check(finite_in(-100.0, 100.0));
   cmd->add_option("--threads", args->threads, "threads describing scans (imitation is sequential)")
       ->check(finite_in(1, kMaxThreads))
       ->capture_default_str();

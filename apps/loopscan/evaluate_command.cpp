@@ -110,7 +110,7 @@ void add_evaluate_command(CLI::App& app) {
                   "default) | structure | intensity");
   cmd->add_option("--structure-weight", args->structure_weight,
                   "w_s of the fusion w_s z(structure) + z(intensity)")
-      ->check(CLI::Range(0.0, 1000.0))
+      ->check(finite_in(0.0, 1000.0))
       ->capture_default_str();
   cmd->add_option("--mode", args->mode, "reference (double, Matlab quirks) | default")
       ->capture_default_str();

@@ -35,6 +35,21 @@ void print_direction_split(const eval::DirectionSplit& split) {
   }
 }
 
+std::string fixed(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
+}
+
+std::vector<std::string> direction_cells(const eval::DirectionSplit& split) {
+  std::vector<std::string> cells;
+  for (const eval::DirectionMetrics* d : {&split.same, &split.opposite}) {
+    cells.push_back(std::to_string(d->top1_correct) + " / " + std::to_string(d->n_loops));
+    cells.push_back(fixed(d->pr.auc, 4));
+  }
+  return cells;
+}
+
 void write_evaluation(const std::string& dir, const std::vector<int>& query_ids,
                       const std::vector<int>& db_ids, const eval::PrResult& pr,
                       const nlohmann::json& metrics, const std::string& title) {

@@ -18,6 +18,10 @@ nlohmann::json pr_metrics(const eval::PrResult& pr);
 nlohmann::json direction_metrics(const eval::DirectionSplit& split);
 // One line per class on stdout.
 void print_direction_split(const eval::DirectionSplit& split);
+// Report cells: "top-1 correct / loops" and AUC, same direction then opposite.
+std::vector<std::string> direction_cells(const eval::DirectionSplit& split);
+// A report cell: `x` with `digits` decimals.
+std::string fixed(double x, int digits);
 
 // query_ids / db_ids: keyframe ids behind the match indices of `pr`.
 void write_evaluation(const std::string& dir, const std::vector<int>& query_ids,

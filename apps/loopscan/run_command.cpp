@@ -38,12 +38,6 @@ struct RunArgs {
   int threads = 2;
 };
 
-std::string fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
-
 report::Figure trajectory_figure(const VoResult& vo, const std::vector<Eigen::Vector3d>& gt) {
   // The VO starts at the identity; drawn from the first frame's ground-truth pose.
   report::Series truth{"ground truth", {}, {}, "#444444"}, estimate{"VO", {}, {}, "#d62728"};
@@ -77,7 +71,7 @@ void run_all(const RunArgs& a) {
   vo_args.out = a.out + "/vo";
   std::printf("[1/3] stereo VO on %s\n", a.vo.kitti.c_str());
   const VoResult vo = run_vo_and_write(vo_args);
-  std::vector<Eigen::Vector3d> gt_by_frame;  // per trajectory entry
+  std::vector<Eigen::Vector3d> gt_by_frame;          // per trajectory entry
   std::vector<Eigen::Vector3d> gt_rows, gt_forward;  // per frame id: position, heading
   if (!vo.gt_path.empty()) {
     for (const auto& T : vo.gt_poses) gt_rows.push_back(T.col(3));

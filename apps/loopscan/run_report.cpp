@@ -7,16 +7,6 @@
 #include "options.hpp"
 
 namespace loopscan::cli {
-namespace {
-
-std::string fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
-
-}  // namespace
-
 void write_method_evaluation(const MethodRun& r, const std::string& dir, Mode mode) {
   nlohmann::json metrics = {
       {"method", r.name}, {"mode", mode_name(mode)}, {"query_ms", r.query_ms}};
@@ -42,31 +32,22 @@ std::vector<report::Series> add_method_results(const std::vector<MethodRun>& run
     std::printf("%-8s %8.4f %8.4f %8.4f %9d %7zu %11.3f %11.3f %10.3f\n", r.name.c_str(), pr.auc,
                 pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops, r.keyframe_ids.size(),
                 r.prepare_ms, r.describe_ms, r.query_ms);
-    summary["methods"].push_back({{"method", r.name},
-                                  {"places", r.keyframe_ids.size()},
-                                  {"evaluated", r.evaluated},
-                                  {"auc", pr.auc},
-                                  {"recall_at_100_precision", pr.recall_at_100_precision},
-                                  {"f1_max", pr.f1_max},
-                                  {"n_gt_loops", pr.n_gt_loops},
-                                  {"prepare_ms", r.prepare_ms},
-                                  {"describe_ms", r.describe_ms},
-                                  {"query_ms", r.query_ms}});
+    nlohmann::json entry = {
+        {"method", r.name},           {"places", r.keyframe_ids.size()}, {"evaluated", r.evaluated},
+        {"prepare_ms", r.prepare_ms}, {"describe_ms", r.describe_ms},    {"query_ms", r.query_ms}};
+    entry.update(pr_metrics(pr));
+    if (r.evaluated) entry["by_direction"] = direction_metrics(r.by_direction);
+    summary["methods"].push_back(entry);
     places_table.rows.push_back({r.name, fixed(pr.auc, 4), fixed(pr.recall_at_100_precision, 4),
                                  fixed(pr.f1_max, 4), std::to_string(pr.n_gt_loops),
                                  std::to_string(r.keyframe_ids.size())});
     times.rows.push_back(
         {r.name, fixed(r.prepare_ms, 3), fixed(r.describe_ms, 3), fixed(r.query_ms, 3)});
-    if (r.evaluated) curves.push_back(report::pr_series(pr.curve, r.name));
     if (r.evaluated) {
-      summary["methods"].back()["by_direction"] = direction_metrics(r.by_direction);
-      const eval::DirectionSplit& d = r.by_direction;
-      direction.rows.push_back({r.name, std::to_string(d.same.top1_correct) + " / " +
-                                            std::to_string(d.same.n_loops),
-                                fixed(d.same.pr.auc, 4),
-                                std::to_string(d.opposite.top1_correct) + " / " +
-                                    std::to_string(d.opposite.n_loops),
-                                fixed(d.opposite.pr.auc, 4)});
+      curves.push_back(report::pr_series(pr.curve, r.name));
+      std::vector<std::string> row = {r.name};
+      for (std::string& c : direction_cells(r.by_direction)) row.push_back(std::move(c));
+      direction.rows.push_back(std::move(row));
     }
   }
   page.tables.push_back(places_table);
