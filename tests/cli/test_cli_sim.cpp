@@ -60,9 +60,14 @@ TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
   ASSERT_EQ(r5.code, 0) << r5.output;
   std::ifstream(d / "eval2/metrics.json") >> metrics;
   EXPECT_TRUE(metrics.contains("fusion_weights"));
+  EXPECT_EQ(run("evaluate --method sc --structure-weight nan --signatures " + (d / "sc2").string() +
+                " --gt " + (d / "sim/gt.txt").string() + " --out " + (d / "bad").string())
+                .code,
+            2);
   // Mistakes: an unknown frame; reference mode is the paper's forward-only scan in PCA.
-  for (const std::string bad : {" --frame gravity", " --mode reference --lookahead 10",
-                                " --mode reference --frame camera", " --lookahead -1"}) {
+  for (const std::string bad :
+       {" --frame gravity", " --mode reference --lookahead 10", " --mode reference --frame camera",
+        " --lookahead -1", " --lookahead nan", " --frame camera --lateral-offset inf"}) {
     const CliResult r6 = run("describe --method sc" + bad + vo + " --out " + (d / "bad").string());
     EXPECT_EQ(r6.code, 2) << bad << ": " << r6.output;
     EXPECT_FALSE(fs::exists(d / "bad")) << bad;
