@@ -8,6 +8,7 @@ namespace loopscan::cli {
 void add_describe_command(CLI::App& app);
 void add_evaluate_command(CLI::App& app);
 void add_pairs_command(CLI::App& app);
+void add_plot_command(CLI::App& app);
 void add_demo_command(CLI::App& app);
 void add_simulate_command(CLI::App& app);
 void add_db_command(CLI::App& app);

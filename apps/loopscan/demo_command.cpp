@@ -1,5 +1,6 @@
 // loopscan demo: the built-in city in summer and in winter, the three descriptors same-season
 // and cross-season, and an HTML report with figures. No download needed.
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -31,6 +32,24 @@ struct DemoArgs {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Every figure of the page also as its own SVG file (`NN-caption-words.svg`), for documents.
+void write_figure_files(const report::HtmlPage& page, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  for (std::size_t k = 0; k < page.figures.size(); ++k) {
+    std::string name = (k < 9 ? "0" : "") + std::to_string(k + 1) + "-";
+    for (char c : page.figures[k].caption) {
+      if (name.size() >= 40) break;
+      const bool word = std::isalnum(static_cast<unsigned char>(c)) != 0;
+      if (word)
+        name += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      else if (name.back() != '-')
+        name += '-';
+    }
+    while (name.back() == '-') name.pop_back();
+    io::write_file_atomic(dir + "/" + name + ".svg", page.figures[k].svg);
+  }
 }
 
 void run_demo(const DemoArgs& a) {
@@ -139,6 +158,7 @@ void run_demo(const DemoArgs& a) {
   page.tables.push_back(closing.table);
   page.figures.insert(page.figures.end(), closing.figures.begin(), closing.figures.end());
   io::write_file_atomic(a.out + "/report/index.html", report::render_html(page));
+  write_figure_files(page, a.out + "/report/figures");
   std::printf("\nloop closing: %s\n", closing.summary.c_str());
   std::printf("\n%zu / %zu keyframes, %.0f points per keyframe; finished in %.0f s -> %s\n",
               sessions[0].keyframe_ids.size(), sessions[1].keyframe_ids.size(),

@@ -25,8 +25,9 @@ struct DescribeArgs {
   double range_m = 45.0;
   int threads = 1;
   double lookahead_m = 0;  // forward-only, the paper's scan
-  std::string frame = "pca";
+  std::string frame;       // empty: the mode's default (sc: camera in default mode; pca)
   double lateral_offset_m = 0;
+  std::vector<double> lateral_versions_m;
 };
 
 void run_describe(const DescribeArgs& a) {
@@ -59,16 +60,36 @@ void run_describe(const DescribeArgs& a) {
   options.threads = std::max(1, a.threads);
   if (mode == Mode::Reference && a.lookahead_m > 0)
     throw std::invalid_argument("--lookahead: reference mode is the paper's forward-only scan");
-  if (mode == Mode::Reference && a.frame != "pca")
+  if (mode == Mode::Reference && !a.frame.empty() && a.frame != "pca")
     throw std::invalid_argument("--frame: reference mode is the paper's PCA frame");
   options.imitation.lookahead_m = a.lookahead_m;
-  options.descriptors.scan_context.frame = options.descriptors.m2dp.frame =
-      options.descriptors.delight.frame = parse_descriptor_frame(a.frame);
+  if (mode == Mode::Reference && !a.lateral_versions_m.empty())
+    throw std::invalid_argument("--lateral-versions: reference mode is the paper's scan");
+  if (!a.frame.empty()) {
+    options.descriptors.scan_context.frame = options.descriptors.m2dp.frame =
+        options.descriptors.delight.frame = parse_descriptor_frame(a.frame);
+  }
+  auto& versions = options.descriptors.scan_context.lateral_versions_m;
+  if (a.lateral_versions_m == std::vector<double>{0.0}) {
+    versions.clear();  // "--lateral-versions 0": the centred descriptor only
+  } else if (!a.lateral_versions_m.empty()) {
+    versions = a.lateral_versions_m;
+  } else if (options.descriptors.scan_context.frame != DescriptorFrame::Camera &&
+             options.descriptors.scan_context.frame != DescriptorFrame::Centroid) {
+    versions.clear();  // another frame chosen: the default versions do not apply
+  }
   if (a.lateral_offset_m != 0) {
     if (method != Method::ScanContext ||
         options.descriptors.scan_context.frame != DescriptorFrame::Camera)
       throw std::invalid_argument("--lateral-offset: Scan Context in the camera frame only");
     options.descriptors.scan_context.lateral_offset_m = a.lateral_offset_m;
+  }
+  if (!versions.empty() && a.lateral_versions_m == versions) {
+    const DescriptorFrame f = options.descriptors.scan_context.frame;
+    if (method != Method::ScanContext ||
+        (f != DescriptorFrame::Camera && f != DescriptorFrame::Centroid))
+      throw std::invalid_argument(
+          "--lateral-versions: Scan Context with --frame camera or centroid");
   }
   if (mode == Mode::Default) {
     options.reset_ids =
@@ -88,7 +109,10 @@ void run_describe(const DescribeArgs& a) {
       {"mode", mode_name(mode)},
       {"range_m", a.range_m},
       {"lookahead_m", options.imitation.lookahead_m},
-      {"frame", a.frame},
+      {"frame",
+       descriptor_frame_name(method == Method::ScanContext ? options.descriptors.scan_context.frame
+                                                           : options.descriptors.m2dp.frame)},
+      {"lateral_versions_m", options.descriptors.scan_context.lateral_versions_m},
       {"filter", filter_for(method) == ScanFilter::Cartesian ? "cartesian" : "polar"},
       {"n_keyframes", poses.size()},
       {"n_signatures", result.signatures.size()},
@@ -132,9 +156,14 @@ void add_describe_command(CLI::App& app) {
                   "two-sided scans: describe a keyframe D m later (0: forward-only, the paper)")
       ->check(finite_in(0.0, 1000.0));
   cmd->add_option("--frame", args->frame,
-                  "descriptor frame: pca | camera | gravity-pca | centroid");
+                  "descriptor frame: pca | camera | gravity-pca | centroid (default: sc camera "
+                  "in default mode, else pca)");
   cmd->add_option("--lateral-offset", args->lateral_offset_m,
                   "sc, --frame camera: centre the descriptor X m right of the keyframe")
+      ->check(finite_in(-100.0, 100.0));
+  cmd->add_option("--lateral-versions", args->lateral_versions_m,
+                  "sc, camera/centroid frame: also describe each place X m right; queries "
+                  "match a place with their best version (default -3.5 -1.75 1.75 3.5; 0: none)")
       ->check(finite_in(-100.0, 100.0));
   cmd->add_option("--threads", args->threads, "threads describing scans (imitation is sequential)")
       ->check(finite_in(1, kMaxThreads))

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   loopscan::cli::add_describe_command(app);
   loopscan::cli::add_evaluate_command(app);
   loopscan::cli::add_pairs_command(app);
+  loopscan::cli::add_plot_command(app);
   loopscan::cli::add_simulate_command(app);
   loopscan::cli::add_demo_command(app);
   loopscan::cli::add_db_command(app);

@@ -9,7 +9,8 @@ namespace loopscan::cli {
 namespace {
 
 Eigen::MatrixXd stack(const std::vector<Signature>& sigs, Method method) {
-  const int rows = rows_per_place(method);
+  // Scan Context places with lateral versions have more than one row.
+  const Eigen::Index rows = sigs.empty() ? rows_per_place(method) : sigs.front().rows();
   const Eigen::Index cols = sigs.empty() ? signature_columns(method) : sigs.front().cols();
   Eigen::MatrixXd all(static_cast<Eigen::Index>(sigs.size()) * rows, cols);
   for (std::size_t i = 0; i < sigs.size(); ++i) all.middleRows(i * rows, rows) = sigs[i];

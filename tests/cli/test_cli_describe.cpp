@@ -33,7 +33,8 @@ TEST(Cli, DescribeWritesTheContractFiles) {
     std::string line;
     int rows = 0;
     while (std::getline(sigs, line)) ++rows;
-    EXPECT_EQ(rows, 10 * (method == "sc" ? 1 : method == "m2dp" ? 4 : 16));
+    // Scan Context: the place and its 4 default lateral versions.
+    EXPECT_EQ(rows, 10 * (method == "sc" ? 5 : method == "m2dp" ? 4 : 16));
   }
   EXPECT_FALSE(has_temp_files(d));
 }

@@ -167,7 +167,8 @@ TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
 }
 
 // builtin:reverse drives a street east, then west in the other lane: the places described
-// from the next lanes (--lateral-offset) make db query recognise the reverse drive.
+// from the next lanes (--lateral-offset) make db query recognise the reverse drive, and so do
+// the default lateral versions.
 TEST(Cli, DbQueryWithLaneVersionsRecognisesAReverseDrive) {
   const fs::path d = temp_dir("reverse");
   const std::string sim = (d / "sim").string();
@@ -175,19 +176,21 @@ TEST(Cli, DbQueryWithLaneVersionsRecognisesAReverseDrive) {
             0);
   const std::string vo = " --method sc --poses " + sim + "/poses_history_file.txt --points " + sim +
                          "/pts_history_file.txt --lookahead 20 --frame camera";
-  for (const std::string off : {"0", "-3.5", "3.5"}) {
-    const CliResult r =
-        run("describe" + vo + " --lateral-offset " + off + " --out " + (d / off).string());
+  for (const std::string off : {"0", "-3.5", "3.5"}) {  // one descriptor each, no versions
+    const CliResult r = run("describe" + vo + " --lateral-offset " + off +
+                            " --lateral-versions 0 --out " + (d / off).string());
     ASSERT_EQ(r.code, 0) << r.output;
   }
+  const CliResult described = run("describe" + vo + " --out " + (d / "versions").string());
+  ASSERT_EQ(described.code, 0) << described.output;  // the default lateral versions
   ASSERT_EQ(run("db build --signatures " + (d / "0").string() + " --gt " + sim + "/gt.txt --out " +
                 (d / "map.db").string())
                 .code,
             0);
-  auto opposite_top1 = [&](const std::string& lanes, int& loops) {
-    const fs::path out = d / ("q" + std::to_string(lanes.size()));
+  auto opposite_top1 = [&](const std::string& lanes, int& loops, const std::string& queries = "0") {
+    const fs::path out = d / ("q" + queries + std::to_string(lanes.size()));
     const CliResult r = run("db query --db " + (d / "map.db").string() + " --signatures " +
-                            (d / "0").string() + lanes + " --exact --k 1 --mask 100 " +
+                            (d / queries).string() + lanes + " --exact --k 1 --mask 100 " +
                             "--threshold 10 --gt " + sim + "/gt.txt --out " + out.string());
     EXPECT_EQ(r.code, 0) << r.output;
     nlohmann::json m;
@@ -202,6 +205,10 @@ TEST(Cli, DbQueryWithLaneVersionsRecognisesAReverseDrive) {
   ASSERT_GT(loops, 50);
   EXPECT_GE(with, 0.4 * loops) << with << " of " << loops;
   EXPECT_GE(with, 2 * without) << without << " without lane versions";
+  // The default lateral versions (one signature, five rows) do it without separate files.
+  const int versions = opposite_top1("", loops, "versions");
+  EXPECT_GE(versions, 0.4 * loops) << versions << " of " << loops;
+  EXPECT_GE(versions, 2 * without) << without << " without lateral versions";
   // A lane version must describe the same places.
   EXPECT_EQ(run("db query --db " + (d / "map.db").string() + " --signatures " + (d / "0").string() +
                 " --lanes " + sim + " --out " + (d / "bad").string())

@@ -16,7 +16,9 @@ int main() {
   loopscan::Cloud b = a;
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.8, Eigen::Vector3d::UnitY()).toRotationMatrix();
   for (auto& q : b) q.p = R * q.p;
-  const auto cfg = loopscan::DescriptorConfig::for_mode(loopscan::Mode::Default);
+  auto cfg = loopscan::DescriptorConfig::for_mode(loopscan::Mode::Default);
+  cfg.scan_context.frame = loopscan::DescriptorFrame::Pca;  // rotation-invariant by construction
+  cfg.scan_context.lateral_versions_m.clear();
   const auto sa = loopscan::describe(loopscan::Method::ScanContext, a, cfg);
   const auto sb = loopscan::describe(loopscan::Method::ScanContext, b, cfg);
   const double d = loopscan::scan_context_distance(sa, sb, loopscan::Component::Structure);

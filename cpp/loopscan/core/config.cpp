@@ -29,6 +29,20 @@ DescriptorFrame parse_descriptor_frame(const std::string& name) {
                               "' (expected pca, camera, gravity-pca or centroid)");
 }
 
+std::string descriptor_frame_name(DescriptorFrame frame) {
+  switch (frame) {
+    case DescriptorFrame::Camera:
+      return "camera";
+    case DescriptorFrame::GravityPca:
+      return "gravity-pca";
+    case DescriptorFrame::Centroid:
+      return "centroid";
+    case DescriptorFrame::Pca:
+      break;
+  }
+  return "pca";
+}
+
 void validate(const ImitationConfig& c) {
   const char* name = "ImitationConfig";
   need(in(c.range_m, 0.1, kMaxRangeM), name,
@@ -54,6 +68,16 @@ void validate(const ScanContextConfig& c) {
        "max_radius_m must be a finite number in [0.1, 1000] m" + got(c.max_radius_m));
   need(in(c.lateral_offset_m, -100.0, 100.0), name,
        "lateral_offset_m must be a finite number in [-100, 100] m" + got(c.lateral_offset_m));
+  need(c.lateral_versions_m.size() <= ScanContextConfig::kMaxLateralVersions, name,
+       "lateral_versions_m holds at most 8 offsets");
+  for (double v : c.lateral_versions_m) {
+    need(in(v, -100.0, 100.0), name,
+         "lateral_versions_m must hold finite numbers in [-100, 100] m" + got(v));
+  }
+  need(c.lateral_versions_m.empty() ||
+           (c.mode == Mode::Default &&
+            (c.frame == DescriptorFrame::Camera || c.frame == DescriptorFrame::Centroid)),
+       name, "lateral_versions_m needs the default mode and the camera or centroid frame");
 }
 
 void validate(const M2dpConfig& c) {

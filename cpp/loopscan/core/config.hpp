@@ -1,6 +1,7 @@
 #pragma once
 // Parameters of every core stage, with the paper's values as defaults.
 #include <string>
+#include <vector>
 
 #include "loopscan/core/types.hpp"
 
@@ -21,6 +22,7 @@ enum class DescriptorFrame { Pca, Camera, GravityPca, Centroid };
 
 // "pca" | "camera" | "gravity-pca" | "centroid"; throws std::invalid_argument otherwise.
 DescriptorFrame parse_descriptor_frame(const std::string& name);
+std::string descriptor_frame_name(DescriptorFrame frame);
 
 struct ImitationConfig {
   double range_m = 45.0;        // imitated LiDAR range r
@@ -44,6 +46,12 @@ struct ScanContextConfig {
   // Camera frame: centre the descriptor this far right of the keyframe (a diagnostic of
   // lateral sensitivity; a query "from the next lane").
   double lateral_offset_m = 0.0;
+  // Lateral versions (camera or centroid frame, default mode): the signature gets one more row
+  // per offset, the descriptor centred that many metres further right. Row 0 is the place;
+  // a query's distance to a place is, per half, the smallest over its rows, so a revisit one
+  // lane over (or a metre aside) matches as if driven at the same spot.
+  std::vector<double> lateral_versions_m;
+  static constexpr int kMaxLateralVersions = 8;
   Mode mode = Mode::Default;
 };
 

@@ -1,7 +1,9 @@
 #include "loopscan/io/signature_set.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
+#include "loopscan/core/config.hpp"
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/incoming_ids.hpp"
@@ -23,8 +25,14 @@ SignatureSet load_signature_set(const std::string& path, Method method,
   SignatureSet set;
   set.keyframe_ids = read_incoming_ids(id_file);
   const Eigen::MatrixXd all = read_matrix_text(sig_file, signature_columns(method));
-  const int rows = rows_per_place(method);
-  if (all.rows() != static_cast<Eigen::Index>(set.keyframe_ids.size()) * rows) {
+  int rows = rows_per_place(method);
+  const auto n = static_cast<Eigen::Index>(set.keyframe_ids.size());
+  // Scan Context places may carry lateral versions: 1 + V rows each (ScanContextConfig).
+  if (method == Method::ScanContext && n > 0 && all.rows() % n == 0 &&
+      all.rows() / n <= 1 + ScanContextConfig::kMaxLateralVersions) {
+    rows = static_cast<int>(std::max<Eigen::Index>(1, all.rows() / n));
+  }
+  if (all.rows() != n * rows) {
     throw InputError(sig_file, 0,
                      std::to_string(set.keyframe_ids.size() * rows) + " rows (" +
                          std::to_string(rows) + " per id in " + id_file + "), found " +

@@ -10,6 +10,7 @@
 #include "loopscan/core/descriptors/m2dp.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
 #include "loopscan/core/descriptors/scan_context.hpp"
+#include "loopscan/core/matching/pair_distance.hpp"
 #include "support/test_support.hpp"
 
 namespace loopscan {
@@ -62,6 +63,36 @@ TEST(ScanContext, RotationAboutUpAxisShiftsSectors) {
   }
 }
 
+TEST(ScanContext, LateralVersionsAreTheDescriptorCentredAside) {
+  const Cloud c = test::street_cloud(4, 3000);
+  DescriptorConfig cfg = DescriptorConfig::for_mode(Mode::Default);
+  ASSERT_EQ(cfg.scan_context.frame, DescriptorFrame::Camera);
+  const std::vector<double> versions = cfg.scan_context.lateral_versions_m;
+  ASSERT_FALSE(versions.empty());
+  const Signature all = describe(Method::ScanContext, c, cfg);
+  ASSERT_EQ(all.rows(), 1 + static_cast<Eigen::Index>(versions.size()));
+  cfg.scan_context.lateral_versions_m.clear();
+  EXPECT_EQ(describe(Method::ScanContext, c, cfg), all.topRows(1));
+  for (std::size_t v = 0; v < versions.size(); ++v) {
+    cfg.scan_context.lateral_offset_m = versions[v];
+    EXPECT_EQ(describe(Method::ScanContext, c, cfg), all.row(v + 1)) << versions[v] << " m";
+  }
+  // The same scene seen from a camera one lane (3.5 m) to the left: its version centred 3.5 m
+  // right of it is the place, so the query with versions matches (nearly) exactly, the centred
+  // descriptor alone does not.
+  Cloud aside = c;
+  for (PointI& q : aside) q.p.x() += 3.5;  // camera x points right
+  DescriptorConfig with = DescriptorConfig::for_mode(Mode::Default), without = with;
+  without.scan_context.lateral_versions_m.clear();
+  const Signature place = describe(Method::ScanContext, c, without);
+  const double d_with = scan_context_distance(describe(Method::ScanContext, aside, with), place,
+                                              Component::Structure);
+  const double d_without = scan_context_distance(describe(Method::ScanContext, aside, without),
+                                                 place, Component::Structure);
+  EXPECT_LT(d_with, 1e-9);
+  EXPECT_GT(d_without, d_with + 0.01);
+}
+
 TEST(ScanContext, ReferenceLeaksBeyondLastRingDefaultDrops) {
   ScanContextConfig cfg;
   // One point just beyond the max radius in the first sector (angle -pi + small).
@@ -83,8 +114,11 @@ TEST(Descriptors, EmptyTinyAndDegenerateCloudsAreFinite) {
       {{{0, 0, 1}, 255.f}, {{1, 0, 1}, 0.f}, {{0, 1, 1}, 128.f}, {{1, 1, 1}, 3.f}}};  // planar
   for (const Cloud& c : clouds) {
     for (Method m : {Method::ScanContext, Method::M2dp, Method::Delight}) {
-      const Signature s = describe(m, c, DescriptorConfig::for_mode(Mode::Default));
-      EXPECT_EQ(s.rows(), rows_per_place(m));
+      const DescriptorConfig cfg = DescriptorConfig::for_mode(Mode::Default);
+      const Signature s = describe(m, c, cfg);
+      // Scan Context: the place and its lateral versions.
+      const auto versions = static_cast<Eigen::Index>(cfg.scan_context.lateral_versions_m.size());
+      EXPECT_EQ(s.rows(), rows_per_place(m) + (m == Method::ScanContext ? versions : 0));
       EXPECT_EQ(s.cols(), signature_columns(m));
       EXPECT_TRUE(s.allFinite()) << method_name(m) << " on " << c.size() << " points";
     }

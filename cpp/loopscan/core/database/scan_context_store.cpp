@@ -24,10 +24,15 @@ constexpr float kKeyScale = 8192.f;  // quantisation of the spectral key (see sp
 constexpr int kRingsPerKey = 2;      // rings summed into one dimension of the tree's key
 
 class ScanContextStore final : public PlaceStore {
-  struct SpectraQuery : Query {
+  struct Version {
     ScanContextSpectra::Query spectra;
     std::vector<float> ring_key;
     std::vector<std::uint16_t> key;
+  };
+  // One version per signature row (lateral versions, ScanContextConfig); a place is stored by
+  // the first row only.
+  struct SpectraQuery : Query {
+    std::vector<Version> versions;
   };
 
  public:
@@ -41,7 +46,7 @@ class ScanContextStore final : public PlaceStore {
   int components() const override { return 2; }
 
   void encode(const Signature& signature, float* payload) const override {
-    spectra_.pack(signature, payload);
+    spectra_.pack(signature.topRows(1), payload);
     const std::vector<std::uint16_t> key = spectral_key(payload);
     std::memset(payload + spectra_.floats_per_place(), 0, ((key.size() + 1) / 2) * sizeof(float));
     std::memcpy(payload + spectra_.floats_per_place(), key.data(), key.size() * 2);
@@ -70,45 +75,68 @@ class ScanContextStore final : public PlaceStore {
 
   std::unique_ptr<Query> prepare(const Signature& signature) const override {
     auto q = std::make_unique<SpectraQuery>();
-    q->spectra = spectra_.prepare(signature);
-    q->key = spectral_key(q->spectra.packed.data());
-    q->ring_key = tree_key(q->key);
+    for (Eigen::Index v = 0; v < signature.rows(); ++v) {
+      Version version;
+      version.spectra = spectra_.prepare(signature.row(v));
+      version.key = spectral_key(version.spectra.packed.data());
+      version.ring_key = tree_key(version.key);
+      q->versions.push_back(std::move(version));
+    }
     return q;
   }
 
   void distances(const Query& query, const float* payload, double* out) const override {
-    float best[2];
-    spectra_.best_dots(static_cast<const SpectraQuery&>(query).spectra, payload, best);
-    out[0] = (1.0 - double(best[0])) / 2.0;
-    out[1] = (1.0 - double(best[1])) / 2.0;
+    float best[2], most[2] = {-2.f, -2.f};
+    for (const Version& v : static_cast<const SpectraQuery&>(query).versions) {
+      spectra_.best_dots(v.spectra, payload, best);
+      most[0] = std::max(most[0], best[0]);
+      most[1] = std::max(most[1], best[1]);
+    }
+    out[0] = (1.0 - double(most[0])) / 2.0;
+    out[1] = (1.0 - double(most[1])) / 2.0;
   }
 
   void candidates(const Query& query, std::size_t count, std::size_t pool, const Eligible& eligible,
                   std::size_t, std::vector<std::size_t>& out) const override {
-    const auto& q = static_cast<const SpectraQuery&>(query);
-    std::vector<std::pair<float, std::size_t>> near;
-    index_.nearest(q.ring_key.data(), std::max(count, pool), eligible, near);
-    std::vector<std::pair<std::int64_t, std::size_t>> ranked;
-    ranked.reserve(near.size());
-    const std::size_t dims = q.key.size();
-    std::vector<std::uint16_t> key(dims);
-    for (const auto& [d, i] : near) {
-      std::memcpy(key.data(), keys_.at(i), dims * 2);
-      std::int64_t e = 0;
-      for (std::size_t t = 0; t < dims; ++t) {
-        const std::int64_t diff = std::int64_t(q.key[t]) - key[t];
-        e += diff * diff;
-      }
-      ranked.emplace_back(e, i);
-    }
-    const std::size_t n = std::min(count, ranked.size());
-    std::partial_sort(ranked.begin(), ranked.begin() + n, ranked.end());
+    // Each version's tree candidates re-ranked by its spectral key; the union of every
+    // version's best `count` (a lateral version's own best places must not be crowded out by
+    // the centred one's near misses, nor the other way round).
     out.clear();
-    for (std::size_t j = 0; j < n; ++j) out.push_back(ranked[j].second);
+    std::vector<std::pair<float, std::size_t>> near;
+    std::vector<std::pair<std::int64_t, std::size_t>> ranked;
+    for (const Version& q : static_cast<const SpectraQuery&>(query).versions) {
+      index_.nearest(q.ring_key.data(), std::max(count, pool), eligible, near);
+      ranked.clear();
+      const std::size_t dims = q.key.size();
+      std::vector<std::uint16_t> key(dims);
+      for (const auto& [d, i] : near) {
+        std::memcpy(key.data(), keys_.at(i), dims * 2);
+        std::int64_t e = 0;
+        for (std::size_t t = 0; t < dims; ++t) {
+          const std::int64_t diff = std::int64_t(q.key[t]) - key[t];
+          e += diff * diff;
+        }
+        ranked.emplace_back(e, i);
+      }
+      const std::size_t n = std::min(count, ranked.size());
+      std::partial_sort(ranked.begin(), ranked.begin() + n, ranked.end());
+      for (std::size_t j = 0; j < n; ++j) out.push_back(ranked[j].second);
+    }
+    if (static_cast<const SpectraQuery&>(query).versions.size() > 1) {
+      std::sort(out.begin(), out.end());
+      out.erase(std::unique(out.begin(), out.end()), out.end());
+    }
   }
 
   std::optional<SectorAlignment> align(const Query& query, const float* payload) const override {
-    return spectra_.align(static_cast<const SpectraQuery&>(query).spectra, payload, 0);
+    // The version that matches the structure half best.
+    const auto& versions = static_cast<const SpectraQuery&>(query).versions;
+    std::optional<SectorAlignment> best;
+    for (const Version& v : versions) {
+      const SectorAlignment a = spectra_.align(v.spectra, payload, 0);
+      if (!best || a.dot > best->dot) best = a;
+    }
+    return best;
   }
   int sectors() const override { return spectra_.sectors(); }
   std::size_t index_bytes() const override { return index_.memory_bytes(); }

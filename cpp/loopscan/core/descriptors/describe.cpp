@@ -10,6 +10,13 @@ DescriptorConfig DescriptorConfig::for_mode(Mode mode, double range_m) {
   DescriptorConfig c;
   c.scan_context.mode = c.m2dp.mode = c.delight.mode = mode;
   c.scan_context.max_radius_m = c.m2dp.max_radius_m = range_m;
+  if (mode == Mode::Default) {
+    // Scan Context keyframe-centred (the camera's up, yaw left to the sector search) with
+    // lateral versions: a revisit a metre aside, or one lane over the other way round, matches
+    // (README, "Direction, lane and season": every sequence we measured gains).
+    c.scan_context.frame = DescriptorFrame::Camera;
+    c.scan_context.lateral_versions_m = kDefaultLateralVersions;
+  }
   return c;
 }
 

@@ -5,11 +5,15 @@
 
 namespace loopscan {
 
+// Default mode's Scan Context lateral versions: half a lane and a lane to either side (m).
+inline const std::vector<double> kDefaultLateralVersions = {-3.5, -1.75, 1.75, 3.5};
+
 struct DescriptorConfig {
   ScanContextConfig scan_context;
   M2dpConfig m2dp;
   DelightConfig delight;
-  // Sets the mode of every descriptor and the radius of SC / M2DP to the imitation range.
+  // Sets the mode of every descriptor and the radius of SC / M2DP to the imitation range; in
+  // default mode Scan Context uses the camera frame and kDefaultLateralVersions.
   static DescriptorConfig for_mode(Mode mode, double range_m = 45.0);
 };
 

@@ -12,7 +12,7 @@ struct M2dpMatrices {
   // planes x (radial * azimuth), column = ring * azimuth_bins + sector; point counts
   // (reference mode) or log(1 + count) (default mode)
   Eigen::MatrixXd count;
-  Eigen::MatrixXd gray;   // same shape, binarized mean gray (0/1)
+  Eigen::MatrixXd gray;  // same shape, binarized mean gray (0/1)
 };
 
 // Projection-plane axes, one column per plane (index p * q_count + q). Reference mode builds

@@ -49,11 +49,15 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
 Signature scan_context_signature(const Cloud& scan, const ScanContextConfig& config,
                                  Eigen::Matrix3d* frame) {
   validate(config);
-  const ScanContext sc = scan_context_of_aligned(
-      align_scan(scan, config.frame, config.mode, frame, config.lateral_offset_m), config);
-  Signature row(1, sc.structure.size() + sc.intensity.size());
-  row << sc.structure.transpose(), sc.intensity.transpose();
-  return row;
+  const int versions = 1 + static_cast<int>(config.lateral_versions_m.size());
+  Signature rows(versions, 2 * config.rings * config.sectors);
+  for (int v = 0; v < versions; ++v) {
+    const double offset = config.lateral_offset_m + (v > 0 ? config.lateral_versions_m[v - 1] : 0);
+    const ScanContext sc = scan_context_of_aligned(
+        align_scan(scan, config.frame, config.mode, v == 0 ? frame : nullptr, offset), config);
+    rows.row(v) << sc.structure.transpose(), sc.intensity.transpose();
+  }
+  return rows;
 }
 
 }  // namespace loopscan

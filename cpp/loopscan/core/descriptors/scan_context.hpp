@@ -16,7 +16,8 @@ struct ScanContext {
 // index leak (a point beyond the last ring lands in the next sector's inner rings).
 ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfig& config);
 
-// PCA alignment + binning; 1 x 2*sectors*rings signature row. `frame` (optional): the PCA
+// PCA alignment + binning; 1 x 2*sectors*rings signature row (one more row per lateral
+// version, see ScanContextConfig). `frame` (optional): the PCA
 // axes in the scan's frame (see pca_align).
 Signature scan_context_signature(const Cloud& scan, const ScanContextConfig& config,
                                  Eigen::Matrix3d* frame = nullptr);

@@ -6,9 +6,9 @@
 namespace loopscan {
 namespace {
 
-Eigen::VectorXd half_of(const Signature& s, Component part) {
+Eigen::VectorXd half_of(const Signature& s, Component part, Eigen::Index row = 0) {
   const Eigen::Index half = s.cols() / 2;
-  return s.row(0).segment(part == Component::Structure ? 0 : half, half).transpose();
+  return s.row(row).segment(part == Component::Structure ? 0 : half, half).transpose();
 }
 
 Eigen::VectorXd normalized(Eigen::VectorXd v) {
@@ -21,20 +21,23 @@ Eigen::VectorXd normalized(Eigen::VectorXd v) {
 double scan_context_distance(const Signature& query, const Signature& db, Component part,
                              const ScanContextConfig& config, int* best_shift, bool* mirrored) {
   const int rings = config.rings, sectors = config.sectors;
-  const Eigen::VectorXd q = normalized(half_of(query, part)), d = normalized(half_of(db, part));
+  const Eigen::VectorXd d = normalized(half_of(db, part));
   double best = -std::numeric_limits<double>::infinity();
-  for (int shift = 0; shift < sectors; ++shift) {
-    for (int mirror = 0; mirror < 2; ++mirror) {
-      double dot = 0;
-      for (int s = 0; s < sectors; ++s) {
-        const int from =
-            mirror ? ((shift - s) % sectors + sectors) % sectors : (s + shift) % sectors;
-        for (int r = 0; r < rings; ++r) dot += q(from * rings + r) * d(s * rings + r);
-      }
-      if (dot > best) {
-        best = dot;
-        if (best_shift) *best_shift = shift;
-        if (mirrored) *mirrored = mirror == 1;
+  for (Eigen::Index version = 0; version < query.rows(); ++version) {
+    const Eigen::VectorXd q = normalized(half_of(query, part, version));
+    for (int shift = 0; shift < sectors; ++shift) {
+      for (int mirror = 0; mirror < 2; ++mirror) {
+        double dot = 0;
+        for (int s = 0; s < sectors; ++s) {
+          const int from =
+              mirror ? ((shift - s) % sectors + sectors) % sectors : (s + shift) % sectors;
+          for (int r = 0; r < rings; ++r) dot += q(from * rings + r) * d(s * rings + r);
+        }
+        if (dot > best) {
+          best = dot;
+          if (best_shift) *best_shift = shift;
+          if (mirrored) *mirrored = mirror == 1;
+        }
       }
     }
   }

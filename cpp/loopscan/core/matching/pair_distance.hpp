@@ -12,7 +12,8 @@ enum class Component { Structure = 0, Intensity = 1 };
 // Scan Context: both halves L2-normalised, d = (1 - dot) / 2 minimised over every sector shift
 // of the query and of its mirrored sector order. A zero half counts as orthogonal (d = 0.5).
 // `best_shift`/`mirrored` (optional) report the winning alignment: query sector s matches
-// database sector (s + shift) mod S, or (shift - s) mod S when mirrored.
+// database sector (s + shift) mod S, or (shift - s) mod S when mirrored. A query with several
+// rows (lateral versions) takes its best row against the database place's first row.
 double scan_context_distance(const Signature& query, const Signature& db, Component part,
                              const ScanContextConfig& config = {}, int* best_shift = nullptr,
                              bool* mirrored = nullptr);

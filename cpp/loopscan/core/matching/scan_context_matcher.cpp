@@ -1,9 +1,13 @@
 // Scan Context rows through the correlation theorem: the best dot product over all sector
 // shifts (and over the mirrored sector order: a convolution) is read from an inverse DFT of a
 // single ring-summed cross spectrum, so a pair costs O(R S + S^2 / 2) instead of O(R S^2).
+// A signature with several rows (ScanContextConfig::lateral_versions_m) is stored by its first
+// row and queried with all: per half, the smallest distance over the rows.
 // Double precision (reference mode): database places interleaved, one per vector lane. Float:
 // the place database's packed-spectra pair kernel (scan_context_spectra.hpp).
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "loopscan/core/matching/place_matcher.hpp"
 #include "loopscan/core/matching/scan_context_kernel.hpp"
@@ -56,7 +60,8 @@ class ScanContextMatcher final : public PlaceMatcher {
     kernel_ = simd::has_avx2() ? kernel_avx2<T> : kernel_base<T>;
   }
 
-  void add(const Signature& place) override {
+  void add(const Signature& signature) override {
+    const Signature place = signature.topRows(1);  // the place; other rows are query versions
     if (n_ % kL == 0) blocks_.resize(blocks_.size() + block_size(), T(0));
     T* block = &blocks_[(n_ / kL) * block_size()];
     const int lane = static_cast<int>(n_ % kL);
@@ -76,17 +81,21 @@ class ScanContextMatcher final : public PlaceMatcher {
   int components() const override { return 2; }
 
   void distances(const Signature& query, Eigen::MatrixXd& rows) const override {
-    rows.resize(2, static_cast<Eigen::Index>(n_));
+    rows.setConstant(2, static_cast<Eigen::Index>(n_), std::numeric_limits<double>::infinity());
     std::vector<T> qre, qim;
     alignas(32) T best[kL];
-    for (int c = 0; c < 2; ++c) {
-      spectrum(query, c, qre, qim);
-      for (std::size_t b = 0; b * kL < n_; ++b) {
-        const T* part =
-            &blocks_[b * block_size() + static_cast<std::size_t>(c) * rings_ * bins_ * 2 * kL];
-        kernel_(args_, qre.data(), qim.data(), part, best);
-        for (int lane = 0; lane < kL && b * kL + lane < n_; ++lane) {
-          rows(c, static_cast<Eigen::Index>(b * kL + lane)) = (1.0 - double(best[lane])) / 2.0;
+    for (Eigen::Index v = 0; v < query.rows(); ++v) {  // each version: the smallest distance
+      const Signature version = query.row(v);
+      for (int c = 0; c < 2; ++c) {
+        spectrum(version, c, qre, qim);
+        for (std::size_t b = 0; b * kL < n_; ++b) {
+          const T* part =
+              &blocks_[b * block_size() + static_cast<std::size_t>(c) * rings_ * bins_ * 2 * kL];
+          kernel_(args_, qre.data(), qim.data(), part, best);
+          for (int lane = 0; lane < kL && b * kL + lane < n_; ++lane) {
+            double& d = rows(c, static_cast<Eigen::Index>(b * kL + lane));
+            d = std::min(d, (1.0 - double(best[lane])) / 2.0);
+          }
         }
       }
     }
@@ -143,20 +152,25 @@ class PackedScanContextMatcher final : public PlaceMatcher {
 
   void add(const Signature& place) override {
     std::vector<float> packed(arena_.floats_per_record());
-    spectra_.pack(place, packed.data());
+    spectra_.pack(place.topRows(1), packed.data());
     arena_.append(packed.data());
   }
   std::size_t size() const override { return arena_.size(); }
   int components() const override { return 2; }
 
   void distances(const Signature& query, Eigen::MatrixXd& rows) const override {
-    rows.resize(2, static_cast<Eigen::Index>(arena_.size()));
-    const ScanContextSpectra::Query q = spectra_.prepare(query);
+    rows.setConstant(2, static_cast<Eigen::Index>(arena_.size()),
+                     std::numeric_limits<double>::infinity());
     float best[2];
-    for (std::size_t j = 0; j < arena_.size(); ++j) {
-      spectra_.best_dots(q, arena_.at(j), best);
-      rows(0, static_cast<Eigen::Index>(j)) = (1.0 - double(best[0])) / 2.0;
-      rows(1, static_cast<Eigen::Index>(j)) = (1.0 - double(best[1])) / 2.0;
+    for (Eigen::Index v = 0; v < query.rows(); ++v) {  // each version: the smallest distance
+      const ScanContextSpectra::Query q = spectra_.prepare(query.row(v));
+      for (std::size_t j = 0; j < arena_.size(); ++j) {
+        spectra_.best_dots(q, arena_.at(j), best);
+        for (int c = 0; c < 2; ++c) {
+          double& d = rows(c, static_cast<Eigen::Index>(j));
+          d = std::min(d, (1.0 - double(best[c])) / 2.0);
+        }
+      }
     }
   }
 
