@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <iterator>
 
 #include "cli/cli_support.hpp"
 #include "loopscan/io/output_set.hpp"
@@ -155,4 +156,45 @@ TEST(CliHardening, OutputDirectoriesAreOursAloneAndNeverHoldTheInputs) {
 }
 
 }  // namespace
+// `plot`: one <path> per --y column; a wrong column, a bad cell or a missing header names the
+// file, line and what was expected, and leaves no file.
+TEST(Cli, PlotDrawsCsvColumnsAndRejectsBadTables) {
+  const fs::path d = temp_dir("plot");
+  write(d / "sweep.csv", "offset,same,opposite\n-1,0.2,0.7\n0,0.8,\n1,0.3,0.1\n");
+  CliResult r = run("plot --csv " + (d / "sweep.csv").string() +
+                    " --x offset --y same opposite --names S O --y-range 0 1 --out " +
+                    (d / "f.svg").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(d / "f.svg");
+  const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t paths = 0;
+  for (std::size_t at = svg.find("<path"); at != std::string::npos; at = svg.find("<path", at + 1))
+    ++paths;
+  EXPECT_GE(paths, 2u);  // the two series (frame and grid may add more)
+  EXPECT_NE(svg.find(">S<"), std::string::npos);
+  EXPECT_NE(svg.find(">O<"), std::string::npos);
+  r = run("plot --csv " + (d / "sweep.csv").string() + " --x offset --y sam --out " +
+          (d / "g.svg").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r,
+                  "sweep.csv:1: expected a column named 'sam' (columns: offset, same, "
+                  "opposite)"))
+      << r.output;
+  write(d / "bad.csv", "a,b\n1,2\n3,x\n");
+  r = run("plot --csv " + (d / "bad.csv").string() + " --x a --y b --out " +
+          (d / "g.svg").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "bad.csv:3: expected a finite number or an empty cell in column 'b'"))
+      << r.output;
+  write(d / "short.csv", "a,b\n1\n");
+  r = run("plot --csv " + (d / "short.csv").string() + " --x a --y b --out " +
+          (d / "g.svg").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "short.csv:2: expected 2 comma-separated cells")) << r.output;
+  r = run("plot --csv " + (d / "sweep.csv").string() + " --x offset --y same --names A B --out " +
+          (d / "g.svg").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_FALSE(fs::exists(d / "g.svg"));
+}
+
 }  // namespace loopscan
