@@ -1,5 +1,6 @@
 #include "run_report.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "evaluation_outputs.hpp"
@@ -27,31 +28,50 @@ std::vector<report::Series> add_method_results(const std::vector<MethodRun>& run
       {"method", "same: top-1", "same: AUC", "opposite: top-1", "opposite: AUC"},
       {}};
   std::vector<report::Series> curves;
+  bool any_revisits = false;
   for (const MethodRun& r : runs) {
     const eval::PrResult& pr = r.pr;
-    std::printf("%-8s %8.4f %8.4f %8.4f %9d %7zu %11.3f %11.3f %10.3f\n", r.name.c_str(), pr.auc,
-                pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops, r.keyframe_ids.size(),
-                r.prepare_ms, r.describe_ms, r.query_ms);
+    // Without a ground-truth revisit AUC, recall and F1 are undefined, not 0.
+    const bool defined = r.evaluated && pr.n_gt_loops > 0;
+    any_revisits = any_revisits || defined;
+    auto cell = [&](double v) { return defined ? fixed(v, 4) : std::string("n/a"); };
+    std::printf("%-8s %8s %8s %8s %9d %7zu %11.3f %11.3f %10.3f\n", r.name.c_str(),
+                cell(pr.auc).c_str(), cell(pr.recall_at_100_precision).c_str(),
+                cell(pr.f1_max).c_str(), pr.n_gt_loops, r.keyframe_ids.size(), r.prepare_ms,
+                r.describe_ms, r.query_ms);
     nlohmann::json entry = {
         {"method", r.name},           {"places", r.keyframe_ids.size()}, {"evaluated", r.evaluated},
         {"prepare_ms", r.prepare_ms}, {"describe_ms", r.describe_ms},    {"query_ms", r.query_ms}};
     entry.update(pr_metrics(pr));
+    if (!defined) {
+      for (const char* key : {"auc", "recall_at_100_precision", "f1_max"}) entry[key] = nullptr;
+    }
     if (r.evaluated) entry["by_direction"] = direction_metrics(r.by_direction);
     summary["methods"].push_back(entry);
-    places_table.rows.push_back({r.name, fixed(pr.auc, 4), fixed(pr.recall_at_100_precision, 4),
-                                 fixed(pr.f1_max, 4), std::to_string(pr.n_gt_loops),
+    places_table.rows.push_back({r.name, cell(pr.auc), cell(pr.recall_at_100_precision),
+                                 cell(pr.f1_max), std::to_string(pr.n_gt_loops),
                                  std::to_string(r.keyframe_ids.size())});
     times.rows.push_back(
         {r.name, fixed(r.prepare_ms, 3), fixed(r.describe_ms, 3), fixed(r.query_ms, 3)});
-    if (r.evaluated) {
+    if (defined) {
       curves.push_back(report::pr_series(pr.curve, r.name));
       std::vector<std::string> row = {r.name};
       for (std::string& c : direction_cells(r.by_direction)) row.push_back(std::move(c));
       direction.rows.push_back(std::move(row));
     }
   }
+  const bool evaluated =
+      std::any_of(runs.begin(), runs.end(), [](const MethodRun& r) { return r.evaluated; });
+  if (evaluated && !any_revisits) {
+    const std::string note =
+        "no ground-truth revisits: the drive never comes back within 10 m of a place at least "
+        "100 places earlier, so AUC, recall and F1 are undefined (n/a)";
+    std::printf("%s\n", note.c_str());
+    page.paragraphs.push_back(note + ".");
+    summary["note"] = note;
+  }
   page.tables.push_back(places_table);
-  page.tables.push_back(direction);
+  if (any_revisits) page.tables.push_back(direction);
   page.tables.push_back(times);
   return curves;
 }
