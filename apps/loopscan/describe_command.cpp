@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "image_commands.hpp"
+#include "lidar_describe.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/incoming_ids.hpp"
@@ -23,11 +24,14 @@ struct DescribeArgs {
   std::string method, poses, points, out, mode = "default", reset_ids;
   ImageDescribeArgs images;  // --method gist | bow
   double range_m = 45.0;
+  bool range_given = false;
   int threads = 1;
   double lookahead_m = 0;  // forward-only, the paper's scan
   std::string frame;       // empty: the mode's default (sc: camera in default mode; pca)
   double lateral_offset_m = 0;
   std::vector<double> lateral_versions_m;
+  std::vector<std::string> lidar;  // real LiDAR scans instead of VO poses + points
+  std::string lidar_params = "paper";
 };
 
 void run_describe(const DescribeArgs& a) {
@@ -39,8 +43,16 @@ void run_describe(const DescribeArgs& a) {
     run_image_describe(images);
     return;
   }
+  if (!a.lidar.empty()) {
+    if (!a.poses.empty() || !a.points.empty() || a.lookahead_m > 0)
+      throw std::invalid_argument("--lidar describes scans: no --poses, --points, --lookahead");
+    run_lidar_describe({a.method, a.mode, a.out, a.lidar_params, a.lidar,
+                        a.range_given ? a.range_m : 0.0, std::max(1, a.threads)});
+    return;
+  }
   if (a.poses.empty() || a.points.empty())
-    throw std::invalid_argument("--method " + a.method + " needs --poses and --points");
+    throw std::invalid_argument("--method " + a.method +
+                                " needs --poses and --points (or --lidar SCANS)");
   const Method method = parse_method(a.method);
   const Mode mode = parse_mode(a.mode);
   if (!(a.range_m > 0)) throw std::invalid_argument("--range must be positive");
@@ -151,6 +163,7 @@ void add_describe_command(CLI::App& app) {
   cmd->add_option("--mode", args->mode, "reference | default")->capture_default_str();
   cmd->add_option("--range", args->range_m, "imitated LiDAR range in m")
       ->check(finite_in(0.1, 1000))
+      ->each([args](const std::string&) { args->range_given = true; })
       ->capture_default_str();
   cmd->add_option("--lookahead", args->lookahead_m,
                   "two-sided scans: describe a keyframe D m later (0: forward-only, the paper)")
@@ -161,6 +174,13 @@ void add_describe_command(CLI::App& app) {
   cmd->add_option("--lateral-offset", args->lateral_offset_m,
                   "sc, --frame camera: centre the descriptor X m right of the keyframe")
       ->check(finite_in(-100.0, 100.0));
+  cmd->add_option("--lidar", args->lidar,
+                  "real LiDAR scans (files or folders: KITTI .bin / .bin.gz, .pcd, .ply), one "
+                  "place each, z up; instead of --poses/--points");
+  cmd->add_option("--lidar-params", args->lidar_params,
+                  "paper (45 m, height range) | scan-context (Scan Context's own: 80 m, max "
+                  "height); --range overrides the range")
+      ->capture_default_str();
   cmd->add_option("--lateral-versions", args->lateral_versions_m,
                   "sc, camera/centroid frame: also describe each place X m right; queries "
                   "match a place with their best version (default -3.5 -1.75 1.75 3.5; 0: none)")

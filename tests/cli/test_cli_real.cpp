@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "cli/cli_support.hpp"
 #include "support/test_support.hpp"
@@ -66,6 +70,61 @@ TEST(CliReal, RunOnADriveWithoutRevisitsSaysSo) {
   EXPECT_TRUE(s["methods"][0]["auc"].is_null());
   EXPECT_EQ(s["methods"][0]["n_gt_loops"].get<int>(), 0);
   EXPECT_GT(s["methods"][0]["describe_ms"].get<double>(), 0.0);
+}
+
+// The KITTI 08 reverse revisit (two real Velodyne scans 3.64 m apart, driven in opposite
+// directions) among every real scan we have: each is the other's best match, at the true yaw.
+TEST(CliReal, LidarScansOfAReverseRevisitMatchEachOther) {
+  const path shared = test::shared_dir();
+  const path pair = shared / "data/real/kitti08-lidar-revisit";
+  if (!test::fs::exists(pair / "000720.bin.gz")) GTEST_SKIP() << "needs " << pair << " (../shared)";
+  // Ground-truth relative yaw from KITTI 08's poses (camera z axes in the x-z plane): ~149 deg.
+  std::ifstream poses(shared / "data/kitti/poses/08.txt");
+  std::string line;
+  double yaw_gt[2] = {0, 0};
+  for (int frame = 0; std::getline(poses, line); ++frame) {
+    if (frame != 720 && frame != 1500) continue;
+    std::istringstream in(line);
+    double m[12];
+    for (double& v : m) in >> v;
+    yaw_gt[frame == 1500] = std::atan2(m[2], m[10]) * 180 / M_PI;
+  }
+  const double expected = std::abs(std::remainder(yaw_gt[1] - yaw_gt[0], 360.0));
+  ASSERT_GT(expected, 120.0);
+  for (const std::string params : {"paper", "scan-context"}) {
+    const path dir = test::temp_dir("real_lidar_" + params + std::to_string(getpid()));
+    const std::string sig = (dir / "sig").string(), db = (dir / "map.db").string();
+    test::CliResult r =
+        test::run("describe --method sc --lidar-params " + params + " --lidar " +
+                  (shared / "data/lidar").string() + " " + pair.string() + " --out " + sig);
+    ASSERT_EQ(r.code, 0) << r.output;
+    ASSERT_EQ(test::run("db build --signatures " + sig + " --out " + db).code, 0);
+    r = test::run("db query --db " + db + " --signatures " + sig + " --exact --k 2 --out " +
+                  (dir / "q").string());
+    ASSERT_EQ(r.code, 0) << r.output;
+    // Ids follow the order of scans.txt; the pair's files are the last two.
+    std::ifstream list(test::fs::path(sig) / "scans.txt");
+    std::vector<std::string> files;
+    while (std::getline(list, line)) files.push_back(line);
+    ASSERT_GE(files.size(), 7u);
+    const int a = static_cast<int>(files.size()) - 2, b = a + 1;
+    ASSERT_NE(files[a].find("000720"), std::string::npos);
+    std::ifstream csv(dir / "q" / "candidates.csv");
+    std::getline(csv, line);  // query_id,rank,session,keyframe,distance,yaw_deg,mirrored
+    std::map<int, std::pair<int, double>> best;  // query -> best other place, its yaw
+    while (std::getline(csv, line)) {
+      std::replace(line.begin(), line.end(), ',', ' ');
+      std::istringstream in(line);
+      int q, rank, session, place;
+      double distance, yaw;
+      in >> q >> rank >> session >> place >> distance >> yaw;
+      if (place != q && !best.count(q)) best[q] = {place, yaw};
+    }
+    EXPECT_EQ(best[a].first, b) << params;
+    EXPECT_EQ(best[b].first, a) << params;
+    EXPECT_NEAR(std::abs(best[a].second), expected, 12.0) << params;
+    EXPECT_NEAR(std::abs(best[b].second), expected, 12.0) << params;
+  }
 }
 
 }  // namespace

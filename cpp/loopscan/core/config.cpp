@@ -68,6 +68,8 @@ void validate(const ScanContextConfig& c) {
        "max_radius_m must be a finite number in [0.1, 1000] m" + got(c.max_radius_m));
   need(in(c.lateral_offset_m, -100.0, 100.0), name,
        "lateral_offset_m must be a finite number in [-100, 100] m" + got(c.lateral_offset_m));
+  need(in(c.sensor_height_m, -100.0, 100.0), name,
+       "sensor_height_m must be a finite number in [-100, 100] m" + got(c.sensor_height_m));
   need(c.lateral_versions_m.size() <= ScanContextConfig::kMaxLateralVersions, name,
        "lateral_versions_m holds at most 8 offsets");
   for (double v : c.lateral_versions_m) {

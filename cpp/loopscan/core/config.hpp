@@ -52,6 +52,10 @@ struct ScanContextConfig {
   // lane over (or a metre aside) matches as if driven at the same spot.
   std::vector<double> lateral_versions_m;
   static constexpr int kMaxLateralVersions = 8;
+  // Structure value of a bin: the paper's height range (max - min), or Scan Context's original
+  // maximum height above the ground (max + sensor_height_m, at least 0), for real LiDAR scans.
+  bool max_height = false;
+  double sensor_height_m = 2.0;
   Mode mode = Mode::Default;
 };
 

@@ -43,6 +43,12 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
   for (int i = 0; i < bins; ++i) {
     if (count(i) > 0) gray(i) = gray(i) / count(i) > mean ? 1.0 : 0.0;
   }
+  if (config.max_height) {
+    for (int i = 0; i < bins; ++i) {
+      high(i) = count(i) > 0 ? std::max(0.0, high(i) + config.sensor_height_m) : 0.0;
+    }
+    return {high, gray};
+  }
   return {high - low, gray};
 }
 
