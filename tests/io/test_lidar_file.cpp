@@ -121,6 +121,8 @@ TEST(LidarFile, MalformedFilesNameTheFileAndTheProblem) {
                      "ply\nformat binary_big_endian 1.0\nelement vertex 1\n"
                      "property float x\nend_header\n"),
                "binary_little_endian");
+  expect_error(write("nonl.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 2\nDATA binary"),
+               "file ends early");
   expect_error(write("nohdr.ply", "ply\nformat ascii 1.0\nelement vertex 1\n"), "end_header");
   expect_error(write("a.xyz", "1 2 3\n"), "*.bin");
   expect_error((dir() / "missing.bin").string(), "readable");

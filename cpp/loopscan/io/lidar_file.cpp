@@ -119,15 +119,14 @@ std::array<int, 4> xyzi(const std::string& path, std::size_t line,
 
 // Points of a binary body (little endian, `stride` bytes a record) or an ascii one.
 Cloud read_body(const std::string& path, const std::string& bytes, std::size_t body, std::size_t n,
-                const std::vector<Field>& fields, bool binary, std::size_t header_lines,
-                LidarReadStats& stats) {
+                const std::vector<Field>& fields, std::size_t stride, bool binary,
+                std::size_t header_lines, LidarReadStats& stats) {
+  body = std::min(body, bytes.size());  // a header ending without a newline
   const std::array<int, 4> idx = xyzi(path, header_lines, fields);
   stats.has_intensity = idx[3] >= 0;
   Cloud cloud;
   cloud.reserve(std::min<std::size_t>(n, bytes.size() / 12 + 1));
   if (binary) {
-    std::size_t stride = 0;
-    for (const Field& f : fields) stride = std::max(stride, f.offset + f.size);
     if (n > (bytes.size() - body) / std::max<std::size_t>(stride, 1)) {
       throw InputError(path, InputError::Byte{bytes.size()},
                        std::to_string(n) + " points of " + std::to_string(stride) +
@@ -193,7 +192,7 @@ Cloud read_pcd(const std::string& path, const std::string& bytes, LidarReadStats
         offset += fields[k].size * (k < counts.size() ? std::max<std::size_t>(1, counts[k]) : 1);
       }
       if (points > limits::kMaxRecords) throw InputError(path, line, "at most 1e8 points");
-      return read_body(path, bytes, at, points, fields, w == "binary", line, stats);
+      return read_body(path, bytes, at, points, fields, offset, w == "binary", line, stats);
     }
   }
   throw InputError(path, line, "a DATA line ending the PCD header");
@@ -243,7 +242,7 @@ Cloud read_ply(const std::string& path, const std::string& bytes, LidarReadStats
       fields.push_back(f);
     } else if (key == "end_header") {
       if (vertices > limits::kMaxRecords) throw InputError(path, line, "at most 1e8 vertices");
-      return read_body(path, bytes, at, vertices, fields, binary, line, stats);
+      return read_body(path, bytes, at, vertices, fields, offset, binary, line, stats);
     }
   }
   throw InputError(path, line, "an end_header line ending the PLY header");
