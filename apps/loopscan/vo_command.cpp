@@ -9,8 +9,10 @@ namespace loopscan::cli {
 void add_vo_command(CLI::App& app) {
   auto a = std::make_shared<VoArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "vo", "Stereo VO on a KITTI-layout sequence -> SO-DSO history files, trajectory, metrics");
-  add_vo_options(*cmd, *a);
+      "vo",
+      "Stereo VO on a KITTI-layout sequence or a raw EuRoC-layout camera -> SO-DSO history "
+      "files, trajectory (KITTI and TUM), metrics");
+  add_vo_options(*cmd, *a, true);
   cmd->callback([cmd, a] {
     VoArgs args = *a;
     refuse_inputs_inside(*cmd, args.out);

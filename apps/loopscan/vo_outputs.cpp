@@ -6,10 +6,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include "euroc_outputs.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/vo_files.hpp"
+#include "loopscan/vo/euroc.hpp"
 #include "options.hpp"
 
 namespace loopscan::cli {
@@ -44,9 +46,21 @@ nlohmann::json metrics_json(const eval::OdometryMetrics& m) {
 
 }  // namespace
 
-void add_vo_options(CLI::App& cmd, VoArgs& a) {
-  cmd.add_option("--kitti", a.kitti, "KITTI odometry sequence dir (image_0/, image_1/, calib.txt)")
-      ->required();
+void add_vo_options(CLI::App& cmd, VoArgs& a, bool allow_euroc) {
+  CLI::Option* kitti = cmd.add_option(
+      "--kitti", a.kitti, "KITTI odometry sequence dir (image_0/, image_1/, calib.txt)");
+  if (allow_euroc) {
+    CLI::Option* euroc =
+        cmd.add_option("--euroc", a.euroc,
+                       "raw stereo camera, EuRoC layout (mav0/cam0, cam1: data/, data.csv, "
+                       "sensor.yaml); rectified before the VO; --gt: a TUM trajectory");
+    kitti->excludes(euroc);
+    cmd.add_option("--rpe-delta", a.rpe_delta_m, "EuRoC: RPE over this path length (m)")
+        ->check(finite_in(0.01, 1e6))
+        ->capture_default_str();
+  } else {
+    kitti->required();
+  }
   cmd.add_option("--out", a.out, "output directory")->required();
   cmd.add_option("--gt", a.gt, "KITTI ground-truth poses (default: <kitti>/poses.txt if present)");
   cmd.add_option("--first", a.first, "first frame")
@@ -66,10 +80,18 @@ void add_vo_options(CLI::App& cmd, VoArgs& a) {
 
 VoResult run_vo_and_write(const VoArgs& a) {
   if (a.points < 1) throw std::invalid_argument("--points must be at least 1");
-  const io::KittiSequence sequence = io::open_kitti_sequence(a.kitti);
+  if (a.kitti.empty() == a.euroc.empty())
+    throw std::invalid_argument("give --kitti DIR or --euroc DIR");
+  const bool euroc = !a.euroc.empty();
+  vo::EurocSequence raw;
+  if (euroc) raw = vo::open_euroc_sequence(a.euroc);
+  // A TUM ground truth is checked before the VO runs.
+  const std::vector<io::TumPose> tum_gt =
+      euroc && !a.gt.empty() ? io::read_tum_trajectory(a.gt) : std::vector<io::TumPose>{};
+  const io::KittiSequence sequence = euroc ? raw.files : io::open_kitti_sequence(a.kitti);
   VoResult result;
-  result.gt_path = a.gt;
-  if (result.gt_path.empty() && std::filesystem::exists(a.kitti + "/poses.txt"))
+  result.gt_path = euroc ? "" : a.gt;
+  if (!euroc && result.gt_path.empty() && std::filesystem::exists(a.kitti + "/poses.txt"))
     result.gt_path = a.kitti + "/poses.txt";
   std::vector<Eigen::Matrix<double, 3, 4>>& gt_rows = result.gt_poses;
   if (!result.gt_path.empty()) {
@@ -87,6 +109,11 @@ VoResult run_vo_and_write(const VoArgs& a) {
   options.frames = a.frames;
   options.blank_frames = a.blank_frames;
   if (!a.quiet) options.progress = print_progress;
+  if (euroc) {
+    options.prepare_pair = [&raw](cv::Mat& left, cv::Mat& right) {
+      raw.rectification.apply(left, right);
+    };
+  }
   result.run = vo::run_stereo_vo(sequence, config, options);
   const vo::SequenceRun& run = result.run;
 
@@ -96,10 +123,21 @@ VoResult run_vo_and_write(const VoArgs& a) {
   std::vector<Eigen::Matrix<double, 3, 4>> trajectory;
   for (const Eigen::Isometry3d& T : run.trajectory) trajectory.push_back(T.matrix().topRows<3>());
   io::write_kitti_poses(a.out + "/trajectory.txt", trajectory);
+  // TUM: the camera for KITTI layouts, the body (T_BS's frame) for EuRoC, as its ground truth.
+  std::vector<double> times;
+  std::vector<Eigen::Isometry3d> tum;
+  const Eigen::Isometry3d camera_to_body =
+      euroc ? raw.rectification.T_body_rectified.inverse() : Eigen::Isometry3d::Identity();
+  for (std::size_t i = 0; i < run.frame_ids.size(); ++i) {
+    times.push_back(sequence.times[static_cast<std::size_t>(run.frame_ids[i])]);
+    tum.push_back(run.trajectory[i] * camera_to_body);
+  }
+  io::write_tum_trajectory(a.out + "/trajectory_tum.txt", times, tum);
 
   const vo::StageTimes& s = run.stage_ms;
   nlohmann::json& j = result.summary;
-  j = {{"sequence", a.kitti},
+  j = {{"sequence", euroc ? a.euroc : a.kitti},
+       {"layout", euroc ? "euroc" : "kitti"},
        {"first_frame", run.frame_ids.empty() ? 0 : run.frame_ids.front()},
        {"frames", run.frame_ids.size()},
        {"keyframes", run.keyframes.size()},
@@ -151,6 +189,17 @@ VoResult run_vo_and_write(const VoArgs& a) {
     }
     std::printf("ATE %.3f m, end point %.2f %% of %.0f m\n", m.ate_rmse_m,
                 m.end_point_error_percent, m.path_length_m);
+  }
+  if (euroc && !a.gt.empty()) {
+    j["metrics"] = tum_metrics(times, tum, tum_gt, a.gt, a.rpe_delta_m);
+    const nlohmann::json& m = j["metrics"];
+    std::printf(
+        "against %s (%d frames matched, SE(3)-aligned): ATE %.3f m = %.2f %% of %.2f m; RPE over "
+        "%.2f m: %.3f m, %.2f deg (%d pairs)\n",
+        a.gt.c_str(), m["matched_frames"].get<int>(), m["ate_rmse_m"].get<double>(),
+        m["ate_percent_of_path"].get<double>(), m["path_length_m"].get<double>(), a.rpe_delta_m,
+        m["rpe_translation_rmse_m"].get<double>(), m["rpe_rotation_rmse_deg"].get<double>(),
+        m["rpe_pairs"].get<int>());
   }
   io::write_file_atomic(a.out + "/vo.json", j.dump(1) + "\n");
   return result;

@@ -14,6 +14,8 @@ namespace loopscan::cli {
 
 struct VoArgs {
   std::string kitti, out, gt;  // gt: default <kitti>/poses.txt when it exists
+  std::string euroc;           // raw stereo in the EuRoC layout instead (gt: a TUM file)
+  double rpe_delta_m = 0.5;
   int first = 0, frames = -1, points = 1000;
   std::vector<int> blank_frames;
   std::vector<double> segments_m;  // default: KITTI's 100..800 m
@@ -22,15 +24,17 @@ struct VoArgs {
 
 struct VoResult {
   vo::SequenceRun run;
-  std::string gt_path;  // empty: no ground truth
+  std::string gt_path;                                // empty: no ground truth
   std::vector<Eigen::Matrix<double, 3, 4>> gt_poses;  // every line of gt_path (camera-to-world)
   nlohmann::json summary;
 };
 
-void add_vo_options(CLI::App& cmd, VoArgs& a);
+// `allow_euroc`: --euroc as an alternative to --kitti (the `vo` command).
+void add_vo_options(CLI::App& cmd, VoArgs& a, bool allow_euroc = false);
 
 // Runs the VO, writes poses_history_file.txt, pts_history_file.txt, trajectory.txt (KITTI, every
-// frame) and vo.json into a.out, prints the summary (fps, ms per stage, metrics).
+// frame), trajectory_tum.txt (TUM; the body frame for EuRoC) and vo.json into a.out, prints the
+// summary (fps, ms per stage, metrics).
 VoResult run_vo_and_write(const VoArgs& a);
 
 }  // namespace loopscan::cli

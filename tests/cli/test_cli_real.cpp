@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "cli/cli_support.hpp"
+#include "loopscan/io/ground_truth_files.hpp"
 #include "support/test_support.hpp"
 
 namespace loopscan {
@@ -125,6 +126,39 @@ TEST(CliReal, LidarScansOfAReverseRevisitMatchEachOther) {
     EXPECT_NEAR(std::abs(best[a].second), expected, 12.0) << params;
     EXPECT_NEAR(std::abs(best[b].second), expected, 12.0) << params;
   }
+}
+
+// A raw EuRoC camera through `vo --euroc`: rectified, the VO, a body-frame TUM trajectory
+// that evo (and our reader) takes, and the error against the TUM ground truth.
+TEST(CliReal, VoOnARawEurocCameraWritesTumAndMetrics) {
+  const path e = path(test::shared_dir()) / "data/real/euroc-v101-micro";
+  if (!test::fs::exists(e / "mav0")) GTEST_SKIP() << "needs " << e << " (../shared)";
+  const path dir = test::temp_dir("real_euroc_" + std::to_string(getpid()));
+  const std::string gt = (e / "V101_gt_tum_micro_window.txt").string();
+  const test::CliResult r = test::run("vo --quiet --euroc " + e.string() + " --gt " + gt +
+                                      " --out " + (dir / "vo").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::vector<io::TumPose> tum =
+      io::read_tum_trajectory((dir / "vo" / "trajectory_tum.txt").string());
+  ASSERT_EQ(tum.size(), 95u);
+  const nlohmann::json m = json_of(dir / "vo" / "vo.json")["metrics"];
+  EXPECT_EQ(m["matched_frames"].get<int>(), 95);
+  // The micro window hovers (17 mm of path): the error is what the VO adds to standing still.
+  EXPECT_LT(m["ate_rmse_m"].get<double>(), 0.01);
+  // The body frame: the first pose is the camera's offset in the body frame (T_BS), not zero.
+  EXPECT_GT(tum[0].T_world_body.translation().norm(), 0.03);
+  // Both layouts at once, and a malformed TUM ground truth: exit 2 with file and line.
+  EXPECT_EQ(test::run("vo --euroc " + e.string() + " --kitti " + e.string() + " --out " +
+                      (dir / "x").string())
+                .code,
+            2);
+  test::write(dir / "bad_gt.txt", "# t x y z qx qy qz qw\n1403715273.26 0 0 0 0 0 0 1\n1 2 3\n");
+  const test::CliResult bad =
+      test::run("vo --quiet --euroc " + e.string() + " --gt " + (dir / "bad_gt.txt").string() +
+                " --out " + (dir / "y").string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("bad_gt.txt:3: expected 8 numbers"), std::string::npos) << bad.output;
+  EXPECT_FALSE(test::fs::exists(dir / "x") || test::fs::exists(dir / "y"));
 }
 
 }  // namespace

@@ -52,6 +52,32 @@ std::vector<Eigen::Matrix<double, 3, 4>> read_kitti_poses(const std::string& pat
   return poses;
 }
 
+std::vector<TumPose> read_tum_trajectory(const std::string& path) {
+  LineReader reader(path);
+  std::vector<TumPose> poses;
+  std::string_view line;
+  const char* expected = "8 numbers: timestamp tx ty tz qx qy qz qw";
+  while (next_data_line(reader, line)) {
+    const std::size_t start = line.find_first_not_of(" \t");
+    if (start == std::string_view::npos || line[start] == '#') continue;
+    Tokenizer tokens(line);
+    double v[8];
+    parse_exactly(reader, tokens, v, 8, expected, 1e12);  // Unix seconds are ~1.4e9
+    check_record_count(reader, poses.size(), "trajectory lines");
+    if (!poses.empty() && !(v[0] > poses.back().time))
+      throw InputError(path, reader.line_number(), "increasing timestamps");
+    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    if (std::abs(q.norm() - 1.0) > 1e-3)
+      throw InputError(path, reader.line_number(), "a unit quaternion qx qy qz qw");
+    TumPose p;
+    p.time = v[0];
+    p.T_world_body.linear() = q.normalized().toRotationMatrix();
+    p.T_world_body.translation() = Eigen::Vector3d(v[1], v[2], v[3]);
+    poses.push_back(p);
+  }
+  return poses;
+}
+
 std::vector<Eigen::Vector3d> read_positions(const std::string& path, GtFormat format) {
   std::vector<Eigen::Vector3d> positions;
   if (format == GtFormat::Kitti) {

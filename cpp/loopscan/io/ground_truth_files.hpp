@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace loopscan::io {
 
@@ -15,6 +16,14 @@ GtFormat parse_gt_format(const std::string& name);
 // KITTI odometry ground truth: 12 finite numbers a line, the 3x4 camera-to-world pose row-major;
 // the 0-based line index is the frame id. Blank lines only at the end.
 std::vector<Eigen::Matrix<double, 3, 4>> read_kitti_poses(const std::string& path);
+
+// TUM trajectory (what evo reads): `timestamp tx ty tz qx qy qz qw` a line, `#` comments;
+// timestamps increasing, quaternions of norm 1 +- 1e-3 (normalised). Errors name file and line.
+struct TumPose {
+  double time = 0;
+  Eigen::Isometry3d T_world_body = Eigen::Isometry3d::Identity();
+};
+std::vector<TumPose> read_tum_trajectory(const std::string& path);
 
 // One position per frame id (0-based line index). Kitti: translation column of each pose;
 // RobotCar: `northing easting down`, 3 finite numbers a line, returned in that order.

@@ -58,8 +58,12 @@ KittiCalib read_kitti_calib(const std::string& path) {
   return c;
 }
 
-std::string KittiSequence::left(std::size_t i) const { return image_path(dir, 0, i); }
-std::string KittiSequence::right(std::size_t i) const { return image_path(dir, 1, i); }
+std::string KittiSequence::left(std::size_t i) const {
+  return left_files.empty() ? image_path(dir, 0, i) : left_files.at(i);
+}
+std::string KittiSequence::right(std::size_t i) const {
+  return right_files.empty() ? image_path(dir, 1, i) : right_files.at(i);
+}
 
 KittiSequence open_kitti_sequence(const std::string& dir) {
   KittiSequence s;

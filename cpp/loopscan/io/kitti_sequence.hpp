@@ -21,6 +21,8 @@ struct KittiSequence {
   std::string dir;
   KittiCalib calib;
   std::vector<double> times;  // seconds, one per frame
+  // Explicit image paths (other layouts, e.g. EuRoC's timestamp names); empty: KITTI's names.
+  std::vector<std::string> left_files, right_files;
   std::size_t frames() const { return times.size(); }
   std::string left(std::size_t i) const;   // image_0/NNNNNN.png
   std::string right(std::size_t i) const;  // image_1/NNNNNN.png

@@ -1,6 +1,7 @@
 #include "loopscan/io/vo_files.hpp"
 
 #include <cstdio>
+#include <stdexcept>
 
 #include "loopscan/io/text_file_writer.hpp"
 
@@ -63,6 +64,21 @@ void write_kitti_poses(const std::string& path,
                        const std::vector<Eigen::Matrix<double, 3, 4>>& T_world_cam) {
   Buffer b(path);
   for (const auto& m : T_world_cam) print_3x4(b, m);
+  b.commit();
+}
+
+void write_tum_trajectory(const std::string& path, const std::vector<double>& times,
+                          const std::vector<Eigen::Isometry3d>& T_world_body) {
+  if (times.size() != T_world_body.size())
+    throw std::invalid_argument("write_tum_trajectory: one time per pose");
+  Buffer b(path);
+  b.printf("# timestamp tx ty tz qx qy qz qw\n");
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const Eigen::Quaterniond q(T_world_body[i].linear());
+    const Eigen::Vector3d t = T_world_body[i].translation();
+    b.printf("%.9f %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", times[i], t.x(), t.y(), t.z(), q.x(),
+             q.y(), q.z(), q.w());
+  }
   b.commit();
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "loopscan/core/types.hpp"
 
@@ -17,6 +18,9 @@ void write_sodso_points(const std::string& path, const std::vector<IdPoint>& poi
 // KITTI GT: 12 numbers a line (camera-to-world), line = frame id.
 void write_kitti_poses(const std::string& path,
                        const std::vector<Eigen::Matrix<double, 3, 4>>& T_world_cam);
+// TUM (what evo reads): `timestamp tx ty tz qx qy qz qw` a line, with a `#` header.
+void write_tum_trajectory(const std::string& path, const std::vector<double>& times,
+                          const std::vector<Eigen::Isometry3d>& T_world_body);
 // RobotCar GPS layout: `northing easting down` a line.
 void write_gps(const std::string& path, const std::vector<Eigen::Vector3d>& northing_easting_down);
 

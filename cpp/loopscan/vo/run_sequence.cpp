@@ -17,11 +17,13 @@ struct StereoPair {
   double load_ms = 0;
 };
 
-StereoPair load_pair(const io::KittiSequence& s, int frame, bool blank) {
+StereoPair load_pair(const io::KittiSequence& s, int frame, bool blank,
+                     const SequenceRunOptions& options) {
   const auto t0 = Clock::now();
   StereoPair p{read_gray_image(s.left(frame)), read_gray_image(s.right(frame))};
   if (p.left.size() != p.right.size())
     throw io::InputError(s.right(frame), 0, "right image size differs from the left image's");
+  if (options.prepare_pair) options.prepare_pair(p.left, p.right);
   if (blank) {
     p.left.setTo(0);
     p.right.setTo(0);
@@ -60,12 +62,15 @@ SequenceRun run_stereo_vo(const io::KittiSequence& sequence, const VoConfig& con
   StereoVo vo(run.camera, config);
   const auto t0 = Clock::now();
   std::future<StereoPair> next;
-  if (count > 0) next = std::async(std::launch::async, load_pair, std::cref(sequence), first, blank(first));
+  if (count > 0)
+    next = std::async(std::launch::async, load_pair, std::cref(sequence), first, blank(first),
+                      std::cref(options));
   for (int i = 0; i < count; ++i) {
     StereoPair pair = next.get();
     const int f = first + i;
     if (i + 1 < count)
-      next = std::async(std::launch::async, load_pair, std::cref(sequence), f + 1, blank(f + 1));
+      next = std::async(std::launch::async, load_pair, std::cref(sequence), f + 1, blank(f + 1),
+                        std::cref(options));
     if (pair.left.cols != run.camera.width || pair.left.rows != run.camera.height) {
       throw io::InputError(sequence.left(f), 0,
                            "image size differs from the first frame's (" +
@@ -95,7 +100,8 @@ SequenceRun run_stereo_vo(const io::KittiSequence& sequence, const VoConfig& con
     for (const IdPoint& p : world_points(kf)) run.points.push_back(p);
     n_points += kf.camera_points.size();
   }
-  if (!run.keyframes.empty()) run.mean_points_per_keyframe = double(n_points) / run.keyframes.size();
+  if (!run.keyframes.empty())
+    run.mean_points_per_keyframe = double(n_points) / run.keyframes.size();
   const double n = std::max(count, 1);
   const StageTimes& s = vo.stage_times();
   run.stage_ms = {s.track / n, s.pose / n, s.keyframe / n, s.bundle_adjustment / n,

@@ -18,18 +18,21 @@ struct SequenceRunOptions {
   // Frames whose images are replaced by black ones (tests the explicit reset).
   std::vector<int> blank_frames;
   std::function<void(int done, int total, double fps)> progress;
+  // Applied to each raw pair on the reader thread before the VO sees it (rectification of raw
+  // cameras, see euroc.hpp); the pair's size must stay that of the calibration.
+  std::function<void(cv::Mat& left, cv::Mat& right)> prepare_pair;
 };
 
 struct SequenceRun {
   StereoIntrinsics camera;
-  std::vector<int> frame_ids;                  // sequence frame of each trajectory entry
-  std::vector<Eigen::Isometry3d> trajectory;   // camera-to-world, every frame (refined)
-  std::vector<KeyframePose> keyframe_poses;    // SO-DSO: world-to-camera, id = frame
-  std::vector<IdPoint> points;                 // SO-DSO: world frame, id = keyframe's frame
+  std::vector<int> frame_ids;                 // sequence frame of each trajectory entry
+  std::vector<Eigen::Isometry3d> trajectory;  // camera-to-world, every frame (refined)
+  std::vector<KeyframePose> keyframe_poses;   // SO-DSO: world-to-camera, id = frame
+  std::vector<IdPoint> points;                // SO-DSO: world frame, id = keyframe's frame
   std::vector<FinishedKeyframe> keyframes;
   std::vector<int> reset_frames;
-  StageTimes stage_ms;       // per frame
-  double load_ms = 0;        // per frame, reading the two PNGs (on the reader thread)
+  StageTimes stage_ms;  // per frame
+  double load_ms = 0;   // per frame, reading the two PNGs (on the reader thread)
   double seconds = 0, fps = 0;
   double mean_points_per_keyframe = 0;
 };
