@@ -40,6 +40,7 @@ void run_describe(const DescribeArgs& a) {
     images.method = a.method;
     images.out = a.out;
     images.threads = std::max(1, a.threads);
+    images.reference = parse_mode(a.mode) == Mode::Reference;
     run_image_describe(images);
     return;
   }

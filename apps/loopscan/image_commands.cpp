@@ -82,7 +82,9 @@ void run_image_describe(const ImageDescribeArgs& a) {
   const std::vector<int> ids = io::read_incoming_ids(a.keyframes + "/incoming_id_file.txt");
   baselines::ImageDescriptors d;
   if (a.method == "gist") {
-    d = baselines::describe_gist(sequence, ids, {}, a.threads);
+    d = baselines::describe_gist(
+        sequence, ids, a.reference ? baselines::GistConfig::lear_c() : baselines::GistConfig{},
+        a.threads);
   } else {
     const baselines::Vocabulary vocabulary = baselines::read_vocabulary(a.vocab);
     baselines::OrbConfig orb;

@@ -17,7 +17,8 @@ void write_image_descriptors(const std::string& dir, const std::string& method,
 struct ImageDescribeArgs {
   std::string method, kitti, keyframes, vocab, out;
   int features = 4000;
-  int threads = 1;  // GIST
+  int threads = 1;         // GIST
+  bool reference = false;  // GIST: Lear's C GIST with the cover + crop (--mode reference)
 };
 // Describes the left image of every keyframe in <keyframes>/incoming_id_file.txt; writes
 // signatures.txt (GIST, one row of 512 a place) or bow.txt (BoW), incoming_id_file.txt and

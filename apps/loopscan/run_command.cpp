@@ -147,7 +147,10 @@ void run_all(const RunArgs& a) {
       const io::KittiSequence sequence = io::open_kitti_sequence(a.vo.kitti);
       baselines::ImageDescriptors d;
       if (name == "gist") {
-        d = baselines::describe_gist(sequence, places, {}, std::max(1, a.threads));
+        d = baselines::describe_gist(
+            sequence, places,
+            mode == Mode::Reference ? baselines::GistConfig::lear_c() : baselines::GistConfig{},
+            std::max(1, a.threads));
       } else {
         d = baselines::describe_bow(sequence, places, baselines::read_vocabulary(a.vocab));
       }

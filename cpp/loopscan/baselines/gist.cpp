@@ -20,12 +20,15 @@ std::mutex& planner_mutex() {  // FFTW's planner is not thread-safe
   return m;
 }
 
-// LMgist pads 5 px before the prefilter; 7 gives a 270-point FFT (2 x 3^3 x 5), much faster than
-// 266 (2 x 7 x 19) for the same purpose (keeping the low-pass from wrapping around).
-constexpr int kPrefilterPad = 7;
+// Both reference programs pad 5 px before the prefilter; 7 gives a 270-point FFT (2 x 3^3 x 5),
+// much faster than 266 (2 x 7 x 19) for the same purpose (keeping the low-pass from wrapping
+// around). The reference variant keeps 5.
+int prefilter_pad(const GistConfig& c) { return c.reference ? 5 : 7; }
 
 // Signed frequency (cycles per sample) of FFT bin i of n.
-double bin_frequency(int i, int n) { return (i < (n + 1) / 2 ? i : i - n) / static_cast<double>(n); }
+double bin_frequency(int i, int n) {
+  return (i < (n + 1) / 2 ? i : i - n) / static_cast<double>(n);
+}
 
 // Mirror (symmetric, edge pixel repeated) padding by `b` on every side.
 cv::Mat mirror_pad(const cv::Mat& image, int b) {
@@ -90,7 +93,15 @@ struct GistExtractor::RealFft {
   }
 };
 
-std::vector<GaborFilter> gabor_bank(const GistConfig& c) {
+namespace {
+GistConfig effective(GistConfig c) {
+  if (c.reference) c.boundary = 0;
+  return c;
+}
+}  // namespace
+
+std::vector<GaborFilter> gabor_bank(const GistConfig& given) {
+  const GistConfig c = effective(given);
   if (c.scales < 1 || c.orientations < 1 || c.image_size < 8 || c.boundary < 0 || c.grid < 1)
     throw std::invalid_argument("GIST: scales, orientations, grid >= 1, image size >= 8");
   const int n = c.image_size + 2 * c.boundary;
@@ -125,14 +136,14 @@ std::vector<GaborFilter> gabor_bank(const GistConfig& c) {
   return bank;
 }
 
-GistExtractor::GistExtractor(const GistConfig& config)
-    : config_(config),
-      bank_(gabor_bank(config)),
-      prefilter_fft_(std::make_unique<RealFft>(config.image_size + 2 * kPrefilterPad)),
-      filter_fft_(std::make_unique<Fft>(config.image_size + 2 * config.boundary)) {
+GistExtractor::GistExtractor(const GistConfig& given)
+    : config_(effective(given)),
+      bank_(gabor_bank(config_)),
+      prefilter_fft_(std::make_unique<RealFft>(config_.image_size + 2 * prefilter_pad(config_))),
+      filter_fft_(std::make_unique<Fft>(config_.image_size + 2 * config_.boundary)) {
   // Prefilter low-pass: exp(-(fx^2 + fy^2) / s1^2), frequencies in cycles per image.
   const int np = prefilter_fft_->n, half = prefilter_fft_->half;
-  const double s1 = config.prefilter_fc / std::sqrt(std::log(2.0));
+  const double s1 = config_.prefilter_fc / std::sqrt(std::log(2.0));
   prefilter_gauss_.resize(static_cast<std::size_t>(np) * half);
   for (int y = 0; y < np; ++y) {
     const double fy = bin_frequency(y, np) * np;
@@ -147,28 +158,49 @@ GistExtractor::GistExtractor(const GistConfig& config)
 
 GistExtractor::~GistExtractor() = default;
 
+cv::Mat cover_and_crop(const cv::Mat& gray, int size) {
+  const double scale =
+      std::max(static_cast<double>(size) / gray.cols, static_cast<double>(size) / gray.rows);
+  // By scale factor, not by target size: OpenCV then samples at exactly 1 / scale (what the
+  // authors' wrapper does; a target size would resample at cols / new_cols, a few pixels off).
+  cv::Mat scaled;
+  cv::resize(gray, scaled, cv::Size(), scale, scale, cv::INTER_LANCZOS4);
+  if (scaled.cols < size || scaled.rows < size)
+    cv::resize(gray, scaled, cv::Size(std::max(size, scaled.cols), std::max(size, scaled.rows)), 0,
+               0, cv::INTER_LANCZOS4);
+  return scaled(cv::Rect((scaled.cols - size) / 2, (scaled.rows - size) / 2, size, size)).clone();
+}
+
 Eigen::VectorXf GistExtractor::describe(const cv::Mat& input) {
   if (input.empty()) throw std::invalid_argument("GIST: empty image");
   cv::Mat gray = input;
   if (input.channels() == 3) cv::cvtColor(input, gray, cv::COLOR_BGR2GRAY);
   const int size = config_.image_size;
   cv::Mat img;
-  cv::resize(gray, img, cv::Size(size, size), 0, 0, cv::INTER_AREA);
-  img.convertTo(img, CV_32F);
-  // Stretch to 0..255 as LMgist does, then log.
-  double lo, hi;
-  cv::minMaxLoc(img, &lo, &hi);
-  if (hi > lo) img = (img - lo) * (255.0 / (hi - lo));
-  else img.setTo(0);
+  if (config_.reference) {
+    img = gray.cols == size && gray.rows == size ? gray.clone() : cover_and_crop(gray, size);
+    img.convertTo(img, CV_32F);
+  } else {
+    cv::resize(gray, img, cv::Size(size, size), 0, 0, cv::INTER_AREA);
+    img.convertTo(img, CV_32F);
+    // Stretch to 0..255 as LMgist does (Lear's C GIST does not).
+    double lo, hi;
+    cv::minMaxLoc(img, &lo, &hi);
+    if (hi > lo)
+      img = (img - lo) * (255.0 / (hi - lo));
+    else
+      img.setTo(0);
+  }
   cv::log(img + 1.0f, img);
 
   // Prefilter: whitening (subtract a Gaussian low-pass) and local contrast normalisation.
   RealFft& p = *prefilter_fft_;
-  const int pad = kPrefilterPad, np = p.n;
+  const int pad = prefilter_pad(config_), np = p.n;
   const cv::Mat padded = mirror_pad(img, pad);
   const std::vector<float>& gauss = prefilter_gauss_;
   auto low_pass = [&](const cv::Mat& m) {  // ifft(fft(m) .* gauss), real
-    for (int y = 0; y < np; ++y) std::memcpy(p.real + static_cast<std::size_t>(y) * np, m.ptr<float>(y), sizeof(float) * np);
+    for (int y = 0; y < np; ++y)
+      std::memcpy(p.real + static_cast<std::size_t>(y) * np, m.ptr<float>(y), sizeof(float) * np);
     fftwf_execute(p.forward);
     for (std::size_t i = 0; i < gauss.size(); ++i) {
       p.spectrum[i][0] *= gauss[i];
@@ -199,8 +231,8 @@ Eigen::VectorXf GistExtractor::describe(const cv::Mat& input) {
   std::vector<int> cell_pixels(cell.size());
   for (int cy = 0; cy < g; ++cy)
     for (int cx = 0; cx < g; ++cx)
-      cell_pixels[static_cast<std::size_t>(cy) * g + cx] = (column_start[cy + 1] - column_start[cy]) *
-                                                          (column_start[cx + 1] - column_start[cx]);
+      cell_pixels[static_cast<std::size_t>(cy) * g + cx] =
+          (column_start[cy + 1] - column_start[cy]) * (column_start[cx + 1] - column_start[cx]);
   std::vector<float> magnitude(static_cast<std::size_t>(size));
   const double inv_n2 = 1.0 / (static_cast<double>(n) * n);
   for (std::size_t k = 0; k < bank_.size(); ++k) {
@@ -224,8 +256,11 @@ Eigen::VectorXf GistExtractor::describe(const cv::Mat& input) {
       }
     }
     for (double& e : cell) e *= inv_n2;
-    for (int c = 0; c < g * g; ++c)
-      out[static_cast<Eigen::Index>(k) * g * g + c] = static_cast<float>(cell[c] / cell_pixels[c]);
+    for (int c = 0; c < g * g; ++c) {
+      const int slot = config_.reference ? (c % g) * g + c / g : c;  // x-major in reference
+      out[static_cast<Eigen::Index>(k) * g * g + slot] =
+          static_cast<float>(cell[c] / cell_pixels[c]);
+    }
   }
   return out;
 }

@@ -6,7 +6,7 @@
 // distance. FFTs by FFTW3 (single precision).
 //
 // Layout of the descriptor: filter-major (scale 0 orientations 0..7, scale 1, ...), then the
-// 4x4 grid row by row (top row first).
+// 4x4 grid row by row (top row first); the reference variant column by column.
 #include <memory>
 #include <vector>
 
@@ -16,12 +16,27 @@
 namespace loopscan::baselines {
 
 struct GistConfig {
-  int image_size = 256;   // the image is resized (not cropped) to image_size x image_size
+  int image_size = 256;  // the image is resized (not cropped) to image_size x image_size
   int scales = 4, orientations = 8;
   int grid = 4;
-  int boundary = 32;      // mirrored border around the image before filtering
+  int boundary = 32;  // mirrored border around the image before filtering
   double prefilter_fc = 4.0;
+  // Lear's C GIST as the paper's authors call it (`--mode reference`): the image scaled to
+  // cover image_size x image_size (OpenCV Lanczos-4) and centre-cropped instead of resized
+  // with distortion, no 0..255 stretch before the log, and the grid cells column by column
+  // (x-major, as both reference programs store them); Lear's filters act on the image itself
+  // (circular, no mirrored border: `boundary` is ignored) after a 5 px prefilter pad.
+  bool reference = false;
+  static GistConfig lear_c() {
+    GistConfig c;
+    c.reference = true;
+    return c;
+  }
 };
+
+// The reference variant's preprocessing: scaled by one factor (Lanczos-4) so that the smaller
+// side is `size`, then the centred size x size window.
+cv::Mat cover_and_crop(const cv::Mat& gray, int size);
 
 // One Gabor filter's transfer function on an n x n frequency grid (unshifted: index (0, 0) is
 // the zero frequency), with its nominal peak.
