@@ -145,15 +145,19 @@ std::vector<Loop> LoopCloser::verify(const TargetCloud& query, int keyframe_id,
   return out;
 }
 
-KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
-                                         std::size_t n_points, bool reset) {
-  KeyframeClosure out;
+void LoopCloser::begin_keyframe(const KeyframePose& keyframe, KeyframeClosure& out) {
   out.keyframe = keyframe.id;
   ++times_.keyframes;
   if (pose_index_.count(keyframe.id)) {
     throw std::invalid_argument("loop closer: keyframe id " + std::to_string(keyframe.id) +
                                 " given twice");
   }
+}
+
+KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
+                                         std::size_t n_points, bool reset) {
+  KeyframeClosure out;
+  begin_keyframe(keyframe, out);
   // 1. Imitate the scan (the graph gets a node for every keyframe, scan or not).
   auto t0 = Clock::now();
   Cloud scan;
@@ -165,8 +169,29 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
   }
   times_.scan += ms_since(t0);
   if (!has_scan) return out;
+  close_place(keyframe, scan, out);
+  return out;
+}
+
+KeyframeClosure LoopCloser::add_scan(const KeyframePose& keyframe, const Cloud& in_range,
+                                     bool reset) {
+  KeyframeClosure out;
+  begin_keyframe(keyframe, out);
+  const auto t0 = Clock::now();
+  const Cloud scan =
+      filter_scan(in_range, filter_for(config_.recognition.method), config_.recognition.imitation);
+  add_graph_node(keyframe, reset);
+  raw_.clear();
+  for (const PointI& p : in_range) raw_.push_back(p.p.cast<float>());
+  times_.scan += ms_since(t0);
+  close_place(keyframe, scan, out);
+  return out;
+}
+
+void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
+                             KeyframeClosure& out) {
   // 2. Describe it: signature and the cloud verification aligns.
-  t0 = Clock::now();
+  auto t0 = Clock::now();
   PlaceDescriptor place;
   place.signature =
       describe(config_.recognition.method, scan, config_.recognition.descriptors, &place.frame);
@@ -233,7 +258,6 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
   }
   update_verdicts(out);
   times_.graph += ms_since(t0);
-  return out;
 }
 
 // Loops the graph refused or dropped are inconsistent after all; the rest of the graph's are

@@ -70,6 +70,11 @@ class LoopCloser {
   KeyframeClosure add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
                                std::size_t n_points, bool reset = false);
 
+  // A place from a real sensor instead of the VO: its points in range, in the camera
+  // convention (x right, y down, z forward; see lidar_scan.hpp for LiDAR scans), at `keyframe`'s
+  // pose. Filtered and described like an imitated scan; every step after is add_keyframe's.
+  KeyframeClosure add_scan(const KeyframePose& keyframe, const Cloud& in_range, bool reset = false);
+
   // Solves the graph once more if loops joined since the last solve (end of a run).
   GraphSolve finish();
 
@@ -96,6 +101,9 @@ class LoopCloser {
     bool in_graph;
   };
   int add_graph_node(const KeyframePose& keyframe, bool reset);
+  void begin_keyframe(const KeyframePose& keyframe, KeyframeClosure& out);
+  // Steps 2-7 of a described keyframe: describe, query, verify, confirm, join, graph.
+  void close_place(const KeyframePose& keyframe, const Cloud& scan, KeyframeClosure& out);
   std::vector<Loop> verify(const TargetCloud& query, int keyframe_id,
                            const std::vector<Candidate>& candidates, std::size_t& last_place_index);
   std::vector<Loop> confirm(const Loop& loop, std::size_t place_index);
@@ -119,7 +127,7 @@ class LoopCloser {
   std::deque<Verified> recent_;
   std::vector<Loop> loops_;
   std::map<std::pair<int, std::size_t>, std::size_t> loop_index_;  // (query, place) -> loops_
-  std::vector<std::pair<std::size_t, int>> graph_loops_;   // loops_ index, graph loop id
+  std::vector<std::pair<std::size_t, int>> graph_loops_;           // loops_ index, graph loop id
   Points3f raw_;
   StageTimes times_;
   int described_ = 0;

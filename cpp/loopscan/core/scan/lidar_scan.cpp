@@ -7,15 +7,32 @@
 
 namespace loopscan {
 
+namespace {
+
+double gray_scale(const Cloud& lidar, const LidarScanOptions& options) {
+  if (options.reflectance_scale > 0) return options.reflectance_scale;
+  const bool unit =
+      std::all_of(lidar.begin(), lidar.end(), [](const PointI& p) { return p.intensity <= 1.0f; });
+  return unit ? 255.0 : 1.0;
+}
+
+}  // namespace
+
+Cloud lidar_in_range(const Cloud& lidar, double range_m, const LidarScanOptions& options) {
+  const double scale = gray_scale(lidar, options), r2 = range_m * range_m;
+  Cloud out;
+  for (const PointI& p : lidar) {
+    const Eigen::Vector3d c(-p.p.y(), -p.p.z(), p.p.x());
+    if (c.squaredNorm() < r2)
+      out.push_back({c, static_cast<float>(std::clamp(p.intensity * scale, 0.0, 255.0))});
+  }
+  return out;
+}
+
 Cloud lidar_scan_as_imitated(const Cloud& lidar, ScanFilter filter,
                              const ImitationConfig& imitation, const LidarScanOptions& options) {
   validate(imitation);
-  double scale = options.reflectance_scale;
-  if (scale <= 0) {
-    const bool unit = std::all_of(lidar.begin(), lidar.end(),
-                                  [](const PointI& p) { return p.intensity <= 1.0f; });
-    scale = unit ? 255.0 : 1.0;
-  }
+  const double scale = gray_scale(lidar, options);
   const double r2 = imitation.range_m * imitation.range_m;
   // Default mode: straight into the float SoA layout of the fast filter (one pass, no copy).
   CameraPoints fast;

@@ -13,6 +13,10 @@ struct LidarScanOptions {
   double reflectance_scale = 0;
 };
 
+// The points within `range_m`, in the camera convention, gray = reflectance * scale, unfiltered
+// (what the loop closer aligns: LoopCloser::add_scan).
+Cloud lidar_in_range(const Cloud& lidar, double range_m, const LidarScanOptions& options = {});
+
 // Throws std::invalid_argument on an invalid imitation config.
 Cloud lidar_scan_as_imitated(const Cloud& lidar, ScanFilter filter,
                              const ImitationConfig& imitation,
