@@ -45,8 +45,11 @@ void run_describe(const DescribeArgs& a) {
     return;
   }
   if (!a.lidar.empty()) {
-    if (!a.poses.empty() || !a.points.empty() || a.lookahead_m > 0)
-      throw std::invalid_argument("--lidar describes scans: no --poses, --points, --lookahead");
+    if (!a.poses.empty() || !a.points.empty() || a.lookahead_m > 0 || !a.frame.empty() ||
+        !a.lateral_versions_m.empty() || a.lateral_offset_m != 0)
+      throw std::invalid_argument(
+          "--lidar describes scans in the mode's default frame: no --poses, --points, "
+          "--lookahead, --frame, --lateral-offset or --lateral-versions");
     run_lidar_describe({a.method, a.mode, a.out, a.lidar_params, a.lidar,
                         a.range_given ? a.range_m : 0.0, std::max(1, a.threads)});
     return;

@@ -126,6 +126,21 @@ TEST(CliReal, LidarScansOfAReverseRevisitMatchEachOther) {
     EXPECT_NEAR(std::abs(best[a].second), expected, 12.0) << params;
     EXPECT_NEAR(std::abs(best[b].second), expected, 12.0) << params;
   }
+  // VO-only options with --lidar, and a damaged scan: exit 2, nothing written.
+  const path dir = test::temp_dir("real_lidar_bad" + std::to_string(getpid()));
+  EXPECT_EQ(test::run("describe --method sc --lidar " + pair.string() + " --frame pca --out " +
+                      (dir / "a").string())
+                .code,
+            2);
+  test::write(dir / "short.bin", std::string(20, '\0'));
+  const test::CliResult bad =
+      test::run("describe --method sc --lidar " + (dir / "short.bin").string() + " --out " +
+                (dir / "b").string());
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("short.bin: byte 16: a size that is a multiple of 16"),
+            std::string::npos)
+      << bad.output;
+  EXPECT_FALSE(test::fs::exists(dir / "a") || test::fs::exists(dir / "b"));
 }
 
 // A raw EuRoC camera through `vo --euroc`: rectified, the VO, a body-frame TUM trajectory
