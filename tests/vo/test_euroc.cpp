@@ -11,6 +11,7 @@
 #include "loopscan/io/errors.hpp"
 #include "loopscan/vo/euroc.hpp"
 #include "loopscan/vo/image_file.hpp"
+#include "support/input_errors.hpp"
 #include "support/test_support.hpp"
 
 namespace loopscan::vo {
@@ -81,15 +82,8 @@ TEST(Euroc, MalformedCalibrationsNameTheFileAndKey) {
       {write("equi.yaml", replace("radial-tangential", "equidistant")), "radial-tangential"},
       {write("tbs.yaml", replace("data: [1, 0", "data: [2, 0")), "T_BS"},
       {write("trunc.yaml", good.substr(0, 60)), "trunc.yaml"}};
-  for (const auto& [path, fragment] : bad) {
-    try {
-      read_camera_yaml(path);
-      ADD_FAILURE() << path << " was accepted";
-    } catch (const io::InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
-  }
+  for (const auto& [path, fragment] : bad)
+    test::expect_input_error([](const std::string& p) { read_camera_yaml(p); }, path, fragment);
 }
 
 }  // namespace
