@@ -197,4 +197,29 @@ TEST(Cli, PlotDrawsCsvColumnsAndRejectsBadTables) {
   EXPECT_FALSE(fs::exists(d / "g.svg"));
 }
 
+// Guidance: --version, the closest subcommand or option for a misspelling, comma lists.
+TEST(Cli, VersionSuggestionsAndCommaLists) {
+  CliResult r = run("--version");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_TRUE(has(r, "loopscan 0.")) << r.output;
+  r = run("describ --method sc");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "unknown command 'describ' (did you mean 'describe'?)")) << r.output;
+  r = run("describe --methdo sc --out x");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "unknown option --methdo (did you mean --method?)")) << r.output;
+  r = run("evaluate --method sc --signatures a --gt b --out c --fusoin fused");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "did you mean --fusion?")) << r.output;
+  r = run("frobnicate");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "unknown command 'frobnicate'; commands: describe")) << r.output;
+  const fs::path d = temp_dir("comma");
+  write(d / "t.csv", "x,a,b\n0,1,2\n1,2,3\n");
+  r = run("plot --csv " + (d / "t.csv").string() + " --x x --y a,b --out " +
+          (d / "f.svg").string());
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(has(r, "2 series")) << r.output;
+}
+
 }  // namespace loopscan
