@@ -57,7 +57,7 @@ void run_describe(const DescribeArgs& a) {
   if (a.poses.empty() || a.points.empty())
     throw std::invalid_argument("--method " + a.method +
                                 " needs --poses and --points (or --lidar SCANS)");
-  const Method method = parse_method(a.method);
+  const Method method = parse_method_or_image(a.method);
   const Mode mode = parse_mode(a.mode);
   if (!(a.range_m > 0)) throw std::invalid_argument("--range must be positive");
   const std::vector<KeyframePose> poses = io::read_sodso_poses(a.poses);

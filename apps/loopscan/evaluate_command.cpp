@@ -30,7 +30,7 @@ void run_evaluate(const EvaluateArgs& a) {
                         a.threshold_m, a.mask});
     return;
   }
-  const Method method = parse_method(a.method);
+  const Method method = parse_method_or_image(a.method);
   const Mode mode = parse_mode(a.mode);
   const Fusion fusion = a.fusion.empty() ? default_fusion(mode) : parse_fusion(a.fusion);
   io::SignatureSet queries = io::load_signature_set(a.signatures, method, a.ids);

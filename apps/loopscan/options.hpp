@@ -8,6 +8,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli_guidance.hpp"
+#include "loopscan/core/signature.hpp"
 #include "loopscan/core/types.hpp"
 
 namespace loopscan::cli {
@@ -16,6 +18,19 @@ inline Mode parse_mode(const std::string& name) {
   if (name == "reference") return Mode::Reference;
   if (name == "default") return Mode::Default;
   throw std::invalid_argument("unknown mode '" + name + "' (expected reference or default)");
+}
+
+// --method of the commands that also take the image baselines (for a name that is not gist or
+// bow): the LiDAR-style method, or an error listing all five and the closest one.
+inline Method parse_method_or_image(const std::string& name) {
+  try {
+    return parse_method(name);
+  } catch (const std::invalid_argument&) {
+    std::string message = "unknown method '" + name + "' (expected sc, m2dp, delight, gist or bow";
+    const std::string guess = closest(name, {"sc", "m2dp", "delight", "gist", "bow"});
+    if (!guess.empty()) message += "; did you mean '" + guess + "'?";
+    throw std::invalid_argument(message + ")");
+  }
 }
 
 inline std::string mode_name(Mode mode) {

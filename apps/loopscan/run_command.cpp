@@ -63,7 +63,7 @@ report::Figure trajectory_figure(const VoResult& vo, const std::vector<Eigen::Ve
 void run_all(const RunArgs& a) {
   const Mode mode = parse_mode(a.mode);
   for (const std::string& name : a.methods) {  // before the VO runs
-    if (!is_image_method(name)) parse_method(name);
+    if (!is_image_method(name)) parse_method_or_image(name);
     if (name == "bow" && a.vocab.empty())
       throw std::invalid_argument("--methods bow needs --vocab");
   }

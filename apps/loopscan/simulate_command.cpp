@@ -61,7 +61,8 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--gamma", a->gamma, "illumination gamma (default: the season's)")
       ->check(finite_in(0.01, 10));
   cmd->add_option("--calib", a->calib, "ORB-SLAM2 KITTI yaml (default: KITTI 04-12 camera)");
-  cmd->add_option("--points-per-keyframe", a->vo.points_per_keyframe)
+  cmd->add_option("--points-per-keyframe", a->vo.points_per_keyframe,
+                  "points the simulated VO exports per keyframe (SO-DSO-like density)")
       ->check(finite_in(1, 100000))
       ->capture_default_str();
   cmd->add_option("--disparity-sigma", a->vo.disparity_sigma_px, "stereo noise in px")

@@ -211,6 +211,10 @@ TEST(Cli, VersionSuggestionsAndCommaLists) {
   r = run("evaluate --method sc --signatures a --gt b --out c --fusoin fused");
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(has(r, "did you mean --fusion?")) << r.output;
+  r = run("evaluate --method gits --signatures a --gt b --out c");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(has(r, "(expected sc, m2dp, delight, gist or bow; did you mean 'gist'?)"))
+      << r.output;
   r = run("frobnicate");
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(has(r, "unknown command 'frobnicate'; commands: describe")) << r.output;
