@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "loopscan/report/html_page.hpp"
 #include "loopscan/report/report.hpp"
 
 namespace lr = loopscan::report;
@@ -89,6 +90,20 @@ std::vector<std::pair<double, double>> line_points(const std::string& d) {
 }
 
 lr::Series diagonal() { return {"diag", {0.0, 0.5, 1.0}, {0.0, 0.5, 1.0}, ""}; }
+
+// Inlined figures lose their XML declaration (not allowed inside HTML); captions are escaped.
+TEST(ReportHtml, InlinesSvgWithoutTheXmlDeclaration) {
+  lr::HtmlPage page;
+  page.title = "t";
+  lr::PlotOptions o;
+  o.title = "plot";
+  page.figures.push_back({"a < b", lr::line_plot_svg({{"s", {0, 1}, {0, 1}, ""}}, o)});
+  ASSERT_EQ(page.figures[0].svg.rfind("<?xml", 0), 0u);  // the standalone file keeps it
+  const std::string html = lr::render_html(page);
+  EXPECT_EQ(html.find("<?xml"), std::string::npos);
+  EXPECT_NE(html.find("<svg"), std::string::npos);
+  EXPECT_NE(html.find("a &lt; b"), std::string::npos);
+}
 
 }  // namespace
 

@@ -4,6 +4,18 @@
 
 namespace loopscan::report {
 
+namespace {
+// An SVG document inlined in HTML: without its XML declaration, which HTML does not allow there.
+std::string inline_svg(const std::string& svg) {
+  if (svg.rfind("<?xml", 0) != 0) return svg;
+  const std::size_t end = svg.find("?>");
+  if (end == std::string::npos) return svg;
+  std::size_t start = end + 2;
+  while (start < svg.size() && (svg[start] == '\n' || svg[start] == '\r')) ++start;
+  return svg.substr(start);
+}
+}  // namespace
+
 std::string render_html(const HtmlPage& page) {
   std::string html =
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
@@ -26,7 +38,7 @@ std::string render_html(const HtmlPage& page) {
     html += "</table>\n";
   }
   for (const Figure& f : page.figures) {
-    html += "<figure>\n" + f.svg + "<figcaption>" + xml_escape(f.caption) +
+    html += "<figure>\n" + inline_svg(f.svg) + "<figcaption>" + xml_escape(f.caption) +
             "</figcaption>\n</figure>\n";
   }
   html += "</body>\n</html>\n";
