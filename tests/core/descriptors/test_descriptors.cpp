@@ -91,6 +91,10 @@ TEST(ScanContext, LateralVersionsAreTheDescriptorCentredAside) {
                                                  place, Component::Structure);
   EXPECT_LT(d_with, 1e-9);
   EXPECT_GT(d_without, d_with + 0.01);
+  // In the centroid frame the versions move the (street-centred) descriptor aside too.
+  with.scan_context.frame = DescriptorFrame::Centroid;
+  const Signature centred = describe(Method::ScanContext, c, with);
+  for (Eigen::Index v = 1; v < centred.rows(); ++v) EXPECT_NE(centred.row(v), centred.row(0)) << v;
 }
 
 TEST(ScanContext, ReferenceLeaksBeyondLastRingDefaultDrops) {

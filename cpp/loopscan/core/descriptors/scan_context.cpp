@@ -9,7 +9,12 @@
 
 namespace loopscan {
 
-ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfig& config) {
+namespace {
+
+// Bins the aligned cloud around the horizontal point `centre` (aligned axes 1 and 2; a lateral
+// version's centre) with the cloud's gray mean `mean` (the same for every version).
+ScanContext bin_aligned(const Cloud& aligned, const ScanContextConfig& config,
+                        const Eigen::Vector2d& centre, double mean) {
   const int rings = config.rings, sectors = config.sectors, bins = rings * sectors;
   const bool reference = config.mode == Mode::Reference;
   const double sector_inv = sectors / (2.0 * M_PI);
@@ -18,7 +23,7 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
   Eigen::VectorXd count = Eigen::VectorXd::Zero(bins), low = Eigen::VectorXd::Zero(bins);
   Eigen::VectorXd high = Eigen::VectorXd::Zero(bins), gray = Eigen::VectorXd::Zero(bins);
   for (const PointI& q : aligned) {
-    const double a1 = q.p(1), a2 = q.p(2);
+    const double a1 = q.p(1) - centre.x(), a2 = q.p(2) - centre.y();
     int sector, ring = static_cast<int>(std::floor(std::sqrt(a1 * a1 + a2 * a2) * ring_inv));
     if (reference) {
       sector = static_cast<int>(std::floor((std::atan2(a2, a1) + M_PI) * sector_inv));
@@ -39,7 +44,6 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
     }
     count(idx) += 1;
   }
-  const double mean = cloud_gray_mean(aligned, config.mode);
   for (int i = 0; i < bins; ++i) {
     if (count(i) > 0) gray(i) = gray(i) / count(i) > mean ? 1.0 : 0.0;
   }
@@ -52,15 +56,27 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
   return {high - low, gray};
 }
 
+}  // namespace
+
+ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfig& config) {
+  return bin_aligned(aligned, config, Eigen::Vector2d::Zero(),
+                     cloud_gray_mean(aligned, config.mode));
+}
+
 Signature scan_context_signature(const Cloud& scan, const ScanContextConfig& config,
                                  Eigen::Matrix3d* frame) {
   validate(config);
+  // Aligned once; a lateral version bins the same points around a centre moved to its side.
+  Eigen::Matrix3d axes;
+  const Cloud aligned = align_scan(scan, config.frame, config.mode, &axes, config.lateral_offset_m);
+  if (frame) *frame = axes;
+  const double mean = cloud_gray_mean(aligned, config.mode);
   const int versions = 1 + static_cast<int>(config.lateral_versions_m.size());
   Signature rows(versions, 2 * config.rings * config.sectors);
   for (int v = 0; v < versions; ++v) {
-    const double offset = config.lateral_offset_m + (v > 0 ? config.lateral_versions_m[v - 1] : 0);
-    const ScanContext sc = scan_context_of_aligned(
-        align_scan(scan, config.frame, config.mode, v == 0 ? frame : nullptr, offset), config);
+    const double offset = v > 0 ? config.lateral_versions_m[v - 1] : 0.0;
+    const Eigen::Vector3d side = axes * Eigen::Vector3d(offset, 0, 0);  // camera x: right
+    const ScanContext sc = bin_aligned(aligned, config, side.tail<2>(), mean);
     rows.row(v) << sc.structure.transpose(), sc.intensity.transpose();
   }
   return rows;

@@ -16,9 +16,9 @@ struct ScanContext {
 // index leak (a point beyond the last ring lands in the next sector's inner rings).
 ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfig& config);
 
-// PCA alignment + binning; 1 x 2*sectors*rings signature row (one more row per lateral
-// version, see ScanContextConfig). `frame` (optional): the PCA
-// axes in the scan's frame (see pca_align).
+// Alignment (the config's frame) + binning; 1 x 2*sectors*rings signature row, and one more per
+// lateral version (ScanContextConfig): the same aligned points binned around a centre moved
+// that far to the side. `frame` (optional): the aligned axes in the scan's frame (see pca_align).
 Signature scan_context_signature(const Cloud& scan, const ScanContextConfig& config,
                                  Eigen::Matrix3d* frame = nullptr);
 
