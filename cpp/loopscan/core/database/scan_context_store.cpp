@@ -24,15 +24,16 @@ constexpr float kKeyScale = 8192.f;  // quantisation of the spectral key (see sp
 constexpr int kRingsPerKey = 2;      // rings summed into one dimension of the tree's key
 
 class ScanContextStore final : public PlaceStore {
-  struct Version {
-    ScanContextSpectra::Query spectra;
+  // Index keys of one query version.
+  struct Keys {
     std::vector<float> ring_key;
     std::vector<std::uint16_t> key;
   };
   // One version per signature row (lateral versions, ScanContextConfig); a place is stored by
   // the first row only.
   struct SpectraQuery : Query {
-    std::vector<Version> versions;
+    std::vector<ScanContextSpectra::Query> versions;
+    std::vector<Keys> keys;  // per version
   };
 
  public:
@@ -75,25 +76,21 @@ class ScanContextStore final : public PlaceStore {
 
   std::unique_ptr<Query> prepare(const Signature& signature) const override {
     auto q = std::make_unique<SpectraQuery>();
-    for (Eigen::Index v = 0; v < signature.rows(); ++v) {
-      Version version;
-      version.spectra = spectra_.prepare(signature.row(v));
-      version.key = spectral_key(version.spectra.packed.data());
-      version.ring_key = tree_key(version.key);
-      q->versions.push_back(std::move(version));
+    q->versions = spectra_.prepare_versions(signature);
+    for (const ScanContextSpectra::Query& v : q->versions) {
+      Keys k;
+      k.key = spectral_key(v.packed.data());
+      k.ring_key = tree_key(k.key);
+      q->keys.push_back(std::move(k));
     }
     return q;
   }
 
   void distances(const Query& query, const float* payload, double* out) const override {
-    float best[2], most[2] = {-2.f, -2.f};
-    for (const Version& v : static_cast<const SpectraQuery&>(query).versions) {
-      spectra_.best_dots(v.spectra, payload, best);
-      most[0] = std::max(most[0], best[0]);
-      most[1] = std::max(most[1], best[1]);
-    }
-    out[0] = (1.0 - double(most[0])) / 2.0;
-    out[1] = (1.0 - double(most[1])) / 2.0;
+    float best[2];
+    spectra_.best_dots(static_cast<const SpectraQuery&>(query).versions, payload, best);
+    out[0] = (1.0 - double(best[0])) / 2.0;
+    out[1] = (1.0 - double(best[1])) / 2.0;
   }
 
   void candidates(const Query& query, std::size_t count, std::size_t pool, const Eligible& eligible,
@@ -104,7 +101,7 @@ class ScanContextStore final : public PlaceStore {
     out.clear();
     std::vector<std::pair<float, std::size_t>> near;
     std::vector<std::pair<std::int64_t, std::size_t>> ranked;
-    for (const Version& q : static_cast<const SpectraQuery&>(query).versions) {
+    for (const Keys& q : static_cast<const SpectraQuery&>(query).keys) {
       index_.nearest(q.ring_key.data(), std::max(count, pool), eligible, near);
       ranked.clear();
       const std::size_t dims = q.key.size();
@@ -132,8 +129,8 @@ class ScanContextStore final : public PlaceStore {
     // The version that matches the structure half best.
     const auto& versions = static_cast<const SpectraQuery&>(query).versions;
     std::optional<SectorAlignment> best;
-    for (const Version& v : versions) {
-      const SectorAlignment a = spectra_.align(v.spectra, payload, 0);
+    for (const ScanContextSpectra::Query& v : versions) {
+      const SectorAlignment a = spectra_.align(v, payload, 0);
       if (!best || a.dot > best->dot) best = a;
     }
     return best;

@@ -158,12 +158,13 @@ class PackedScanContextMatcher final : public PlaceMatcher {
   std::size_t size() const override { return arena_.size(); }
   int components() const override { return 2; }
 
+  // Version by version over all places: one query stays in L1 while the places stream by
+  // (all versions on each place in turn measured no faster on k06's 880 places).
   void distances(const Signature& query, Eigen::MatrixXd& rows) const override {
     rows.setConstant(2, static_cast<Eigen::Index>(arena_.size()),
                      std::numeric_limits<double>::infinity());
     float best[2];
-    for (Eigen::Index v = 0; v < query.rows(); ++v) {  // each version: the smallest distance
-      const ScanContextSpectra::Query q = spectra_.prepare(query.row(v));
+    for (const ScanContextSpectra::Query& q : spectra_.prepare_versions(query)) {
       for (std::size_t j = 0; j < arena_.size(); ++j) {
         spectra_.best_dots(q, arena_.at(j), best);
         for (int c = 0; c < 2; ++c) {

@@ -271,4 +271,22 @@ void ScanContextSpectra::best_dots(const Query& query, const float* place, float
   kernel(args, query.packed.data(), query.swapped.data(), place, best);
 }
 
+std::vector<ScanContextSpectra::Query> ScanContextSpectra::prepare_versions(
+    const Signature& signature) const {
+  std::vector<Query> versions;
+  for (Eigen::Index v = 0; v < signature.rows(); ++v) versions.push_back(prepare(signature.row(v)));
+  return versions;
+}
+
+void ScanContextSpectra::best_dots(const std::vector<Query>& versions, const float* place,
+                                   float best[2]) const {
+  best[0] = best[1] = -2.f;  // below any dot of unit vectors
+  float dots[2];
+  for (const Query& q : versions) {
+    best_dots(q, place, dots);
+    best[0] = std::max(best[0], dots[0]);
+    best[1] = std::max(best[1], dots[1]);
+  }
+}
+
 }  // namespace loopscan

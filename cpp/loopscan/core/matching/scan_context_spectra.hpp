@@ -47,6 +47,11 @@ class ScanContextSpectra {
   // order; the SC distance of a half is (1 - dot) / 2.
   void best_dots(const Query& query, const float* place, float best[2]) const;
 
+  // A signature with lateral versions (ScanContextConfig): one prepared query per row; a
+  // place's best dots are, per half, the best over the versions.
+  std::vector<Query> prepare_versions(const Signature& signature) const;
+  void best_dots(const std::vector<Query>& versions, const float* place, float best[2]) const;
+
   // The alignment behind best_dots for one half (0 structure, 1 intensity), in double;
   // ties go to the smaller shift, unmirrored first.
   SectorAlignment align(const Query& query, const float* place, int half) const;
