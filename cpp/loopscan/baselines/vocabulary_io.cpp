@@ -6,6 +6,7 @@
 #include <opencv2/core/persistence.hpp>
 
 #include "loopscan/io/errors.hpp"
+#include "loopscan/io/file_names.hpp"
 
 namespace loopscan::baselines {
 
@@ -37,10 +38,6 @@ io::VocabularyData to_records(const Vocabulary& v) {
 }
 
 namespace {
-
-bool ends_with(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
 
 // A node's descriptor string: 32 bytes (DBoW2), or DBoW3's "type cols" header then the bytes.
 std::array<std::uint8_t, 32> descriptor_of(const std::string& path, int id,
@@ -110,8 +107,8 @@ io::VocabularyData read_dbow_yaml(const std::string& path) {
 }
 
 Vocabulary read_vocabulary(const std::string& path) {
-  if (ends_with(path, ".yml") || ends_with(path, ".yml.gz") || ends_with(path, ".yaml") ||
-      ends_with(path, ".yaml.gz"))
+  if (io::ends_with(path, ".yml") || io::ends_with(path, ".yml.gz") ||
+      io::ends_with(path, ".yaml") || io::ends_with(path, ".yaml.gz"))
     return from_records(read_dbow_yaml(path));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw io::InputError(path, 0, "a readable vocabulary file");

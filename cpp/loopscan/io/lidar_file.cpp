@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "loopscan/io/errors.hpp"
+#include "loopscan/io/file_names.hpp"
 #include "loopscan/io/limits.hpp"
 
 namespace loopscan::io {
@@ -17,10 +18,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr std::size_t kMaxScanBytes = std::size_t{1} << 30;  // 67M KITTI points
-
-bool ends_with(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
 
 // The whole file, inflated when gzip-compressed (zlib passes plain files through).
 std::string file_bytes(const std::string& path) {
@@ -248,19 +245,28 @@ Cloud read_ply(const std::string& path, const std::string& bytes, LidarReadStats
   throw InputError(path, line, "an end_header line ending the PLY header");
 }
 
+using Reader = Cloud (*)(const std::string& path, const std::string& bytes, LidarReadStats&);
+
+// The reader for a scan's file name (gzip-compressed or not), or nullptr.
+Reader reader_for(std::string_view name) {
+  if (ends_with(name, ".gz")) name.remove_suffix(3);
+  if (ends_with(name, ".bin")) return read_bin;
+  if (ends_with(name, ".pcd")) return read_pcd;
+  if (ends_with(name, ".ply")) return read_ply;
+  return nullptr;
+}
+
+constexpr const char* kScanNames = "*.bin, *.pcd or *.ply (each also .gz)";
+
 }  // namespace
 
 Cloud read_lidar_scan(const std::string& path, LidarReadStats* stats) {
   LidarReadStats local;
   LidarReadStats& s = stats ? *stats : local;
   s = {};
-  std::string name = path;
-  if (ends_with(name, ".gz")) name.resize(name.size() - 3);
-  const std::string bytes = file_bytes(path);
-  if (ends_with(name, ".bin")) return read_bin(path, bytes, s);
-  if (ends_with(name, ".pcd")) return read_pcd(path, bytes, s);
-  if (ends_with(name, ".ply")) return read_ply(path, bytes, s);
-  throw InputError(path, 0, "a LiDAR scan named *.bin, *.bin.gz, *.pcd or *.ply");
+  const Reader read = reader_for(path);
+  if (!read) throw InputError(path, 0, std::string("a LiDAR scan named ") + kScanNames);
+  return read(path, file_bytes(path), s);
 }
 
 std::vector<std::string> lidar_scan_files(const std::vector<std::string>& paths) {
@@ -274,11 +280,9 @@ std::vector<std::string> lidar_scan_files(const std::vector<std::string>& paths)
     std::vector<std::string> found;
     for (const auto& e : fs::directory_iterator(p)) {
       const std::string f = e.path().string();
-      if (e.is_regular_file() && (ends_with(f, ".bin") || ends_with(f, ".bin.gz") ||
-                                  ends_with(f, ".pcd") || ends_with(f, ".ply")))
-        found.push_back(f);
+      if (e.is_regular_file() && reader_for(f)) found.push_back(f);
     }
-    if (found.empty()) throw InputError(p, 0, "a folder with *.bin, *.bin.gz, *.pcd or *.ply");
+    if (found.empty()) throw InputError(p, 0, std::string("a folder with ") + kScanNames);
     std::sort(found.begin(), found.end());
     out.insert(out.end(), found.begin(), found.end());
   }

@@ -21,7 +21,7 @@ struct LidarReadStats {
 Cloud read_lidar_scan(const std::string& path, LidarReadStats* stats = nullptr);
 
 // The scan files named on a command line: files as given, folders expanded to their `.bin`,
-// `.bin.gz`, `.pcd` and `.ply` files in name order. Throws InputError on a missing path or a
+// `.pcd` and `.ply` files (each also `.gz`) in name order. Throws InputError on a missing path or a
 // folder without scans.
 std::vector<std::string> lidar_scan_files(const std::vector<std::string>& paths);
 

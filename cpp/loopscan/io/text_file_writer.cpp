@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "loopscan/io/file_names.hpp"
+
 namespace loopscan::io {
 
 struct TextFileWriter::Gzip {
@@ -46,9 +48,7 @@ struct TextFileWriter::Gzip {
   }
 };
 
-bool has_gz_suffix(const std::string& path) {
-  return path.size() >= 3 && path.compare(path.size() - 3, 3, ".gz") == 0;
-}
+bool has_gz_suffix(const std::string& path) { return ends_with(path, ".gz"); }
 
 TextFileWriter::TextFileWriter(const std::string& path) : out_(path) {
   if (has_gz_suffix(path)) gzip_ = std::make_unique<Gzip>();
