@@ -79,34 +79,28 @@ void run_describe(const DescribeArgs& a) {
   if (mode == Mode::Reference && !a.frame.empty() && a.frame != "pca")
     throw std::invalid_argument("--frame: reference mode is the paper's PCA frame");
   options.imitation.lookahead_m = a.lookahead_m;
-  if (mode == Mode::Reference && !a.lateral_versions_m.empty())
-    throw std::invalid_argument("--lateral-versions: reference mode is the paper's scan");
+  ScanContextConfig& sc = options.descriptors.scan_context;
   if (!a.frame.empty()) {
-    options.descriptors.scan_context.frame = options.descriptors.m2dp.frame =
-        options.descriptors.delight.frame = parse_descriptor_frame(a.frame);
+    sc.frame = options.descriptors.m2dp.frame = options.descriptors.delight.frame =
+        parse_descriptor_frame(a.frame);
+    // The default lateral versions need a keyframe-centred frame.
+    if (sc.frame != DescriptorFrame::Camera && sc.frame != DescriptorFrame::Centroid)
+      sc.lateral_versions_m.clear();
   }
-  auto& versions = options.descriptors.scan_context.lateral_versions_m;
-  if (a.lateral_versions_m == std::vector<double>{0.0}) {
-    versions.clear();  // "--lateral-versions 0": the centred descriptor only
-  } else if (!a.lateral_versions_m.empty()) {
-    versions = a.lateral_versions_m;
-  } else if (options.descriptors.scan_context.frame != DescriptorFrame::Camera &&
-             options.descriptors.scan_context.frame != DescriptorFrame::Centroid) {
-    versions.clear();  // another frame chosen: the default versions do not apply
+  if (!a.lateral_versions_m.empty()) {
+    if (method != Method::ScanContext)
+      throw std::invalid_argument("--lateral-versions: Scan Context only");
+    // "--lateral-versions 0": the centred descriptor only.
+    sc.lateral_versions_m = a.lateral_versions_m == std::vector<double>{0.0} ? std::vector<double>{}
+                                                                             : a.lateral_versions_m;
   }
   if (a.lateral_offset_m != 0) {
-    if (method != Method::ScanContext ||
-        options.descriptors.scan_context.frame != DescriptorFrame::Camera)
+    if (method != Method::ScanContext || sc.frame != DescriptorFrame::Camera)
       throw std::invalid_argument("--lateral-offset: Scan Context in the camera frame only");
-    options.descriptors.scan_context.lateral_offset_m = a.lateral_offset_m;
+    sc.lateral_offset_m = a.lateral_offset_m;
   }
-  if (!versions.empty() && a.lateral_versions_m == versions) {
-    const DescriptorFrame f = options.descriptors.scan_context.frame;
-    if (method != Method::ScanContext ||
-        (f != DescriptorFrame::Camera && f != DescriptorFrame::Centroid))
-      throw std::invalid_argument(
-          "--lateral-versions: Scan Context with --frame camera or centroid");
-  }
+  // Frame, mode and versions must agree; said now, before the first scan is described.
+  if (method == Method::ScanContext) validate(sc);
   if (mode == Mode::Default) {
     options.reset_ids =
         a.reset_ids.empty() ? detect_vo_resets(poses) : io::read_incoming_ids(a.reset_ids);
