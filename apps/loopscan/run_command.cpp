@@ -147,6 +147,7 @@ void run_all(const RunArgs& a) {
       const io::KittiSequence sequence = io::open_kitti_sequence(a.vo.kitti);
       baselines::ImageDescriptors d;
       if (name == "gist") {
+        r.has_describe_step = false;
         d = baselines::describe_gist(
             sequence, places,
             mode == Mode::Reference ? baselines::GistConfig::lear_c() : baselines::GistConfig{},

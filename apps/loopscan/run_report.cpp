@@ -35,15 +35,18 @@ std::vector<report::Series> add_method_results(const std::vector<MethodRun>& run
     const bool defined = r.evaluated && pr.n_gt_loops > 0;
     any_revisits = any_revisits || defined;
     auto cell = [&](double v) { return defined ? fixed(v, 4) : std::string("n/a"); };
-    // GIST has no step after its extraction (prepare): "-", not a time of 0.
-    const std::string describe = r.name == "gist" ? "-" : fixed(r.describe_ms, 3);
+    const std::string describe = r.has_describe_step ? fixed(r.describe_ms, 3) : "-";
     std::printf("%-8s %8s %8s %8s %9d %7zu %11.3f %11s %10.3f\n", r.name.c_str(),
                 cell(pr.auc).c_str(), cell(pr.recall_at_100_precision).c_str(),
                 cell(pr.f1_max).c_str(), pr.n_gt_loops, r.keyframe_ids.size(), r.prepare_ms,
                 describe.c_str(), r.query_ms);
     nlohmann::json entry = {
-        {"method", r.name},           {"places", r.keyframe_ids.size()}, {"evaluated", r.evaluated},
-        {"prepare_ms", r.prepare_ms}, {"describe_ms", r.describe_ms},    {"query_ms", r.query_ms}};
+        {"method", r.name},
+        {"places", r.keyframe_ids.size()},
+        {"evaluated", r.evaluated},
+        {"prepare_ms", r.prepare_ms},
+        {"describe_ms", r.has_describe_step ? nlohmann::json(r.describe_ms) : nlohmann::json()},
+        {"query_ms", r.query_ms}};
     entry.update(pr_metrics(pr));
     if (!defined) {
       for (const char* key : {"auc", "recall_at_100_precision", "f1_max"}) entry[key] = nullptr;

@@ -19,8 +19,9 @@ struct MethodRun {
   eval::PrResult pr;
   eval::DirectionSplit by_direction;  // same- vs opposite-direction revisits
   bool evaluated = false;
-  double prepare_ms = 0;   // imitate (LiDAR-style) / ORB or GIST extraction (images)
-  double describe_ms = 0;  // describe / BoW transform
+  double prepare_ms = 0;          // imitate (LiDAR-style) / ORB or GIST extraction (images)
+  double describe_ms = 0;         // describe / BoW transform
+  bool has_describe_step = true;  // GIST's extraction is its whole description
   double query_ms = 0;
 };
 
