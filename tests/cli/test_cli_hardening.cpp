@@ -202,22 +202,19 @@ TEST(Cli, VersionSuggestionsAndCommaLists) {
   CliResult r = run("--version");
   EXPECT_EQ(r.code, 0);
   EXPECT_TRUE(has(r, "loopscan 0.")) << r.output;
-  r = run("describ --method sc");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(has(r, "unknown command 'describ' (did you mean 'describe'?)")) << r.output;
-  r = run("describe --methdo sc --out x");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(has(r, "unknown option --methdo (did you mean --method?)")) << r.output;
-  r = run("evaluate --method sc --signatures a --gt b --out c --fusoin fused");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(has(r, "did you mean --fusion?")) << r.output;
-  r = run("evaluate --method gits --signatures a --gt b --out c");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(has(r, "(expected sc, m2dp, delight, gist or bow; did you mean 'gist'?)"))
-      << r.output;
-  r = run("frobnicate");
-  EXPECT_EQ(r.code, 2);
-  EXPECT_TRUE(has(r, "unknown command 'frobnicate'; commands: describe")) << r.output;
+  const std::pair<const char*, const char*> mistakes[] = {
+      {"describ --method sc", "unknown command 'describ' (did you mean 'describe'?)"},
+      {"describe --methdo sc --out x", "unknown option --methdo (did you mean --method?)"},
+      {"evaluate --method sc --signatures a --gt b --out c --fusoin fused",
+       "did you mean --fusion?"},
+      {"evaluate --method gits --signatures a --gt b --out c",
+       "(expected sc, m2dp, delight, gist or bow; did you mean 'gist'?)"},
+      {"frobnicate", "unknown command 'frobnicate'; commands: describe"}};
+  for (const auto& [line, message] : mistakes) {
+    r = run(line);
+    EXPECT_EQ(r.code, 2) << line;
+    EXPECT_TRUE(has(r, message)) << line << ": " << r.output;
+  }
   const fs::path d = temp_dir("comma");
   write(d / "t.csv", "x,a,b\n0,1,2\n1,2,3\n");
   r = run("plot --csv " + (d / "t.csv").string() + " --x x --y a,b --out " +
