@@ -8,6 +8,7 @@
 
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/core/scan/lidar_scan.hpp"
+#include "loopscan/core/timing.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/lidar_file.hpp"
 #include "options.hpp"
@@ -15,13 +16,6 @@
 #include "signature_outputs.hpp"
 
 namespace loopscan::cli {
-namespace {
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 void run_lidar_describe(const LidarDescribeArgs& a) {
   const Method method = parse_method(a.method);

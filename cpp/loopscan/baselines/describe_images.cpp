@@ -5,15 +5,13 @@
 #include <stdexcept>
 
 #include "loopscan/core/parallel.hpp"
+#include "loopscan/core/timing.hpp"
 #include "loopscan/vo/image_file.hpp"
 
 namespace loopscan::baselines {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 cv::Mat left_image(const io::KittiSequence& s, int frame, double& read_ms) {
   if (frame < 0 || static_cast<std::size_t>(frame) >= s.frames())

@@ -6,15 +6,12 @@
 
 #include "loopscan/closure/pose_math.hpp"
 #include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/timing.hpp"
 
 namespace loopscan::closure {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
 }  // namespace
 
 using detail::isometry;

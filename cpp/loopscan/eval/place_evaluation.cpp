@@ -4,16 +4,10 @@
 #include <chrono>
 
 #include "loopscan/core/parallel.hpp"
+#include "loopscan/core/timing.hpp"
 #include "loopscan/eval/best_match.hpp"
 
 namespace loopscan::eval {
-namespace {
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
                                 const std::vector<Signature>& database,

@@ -9,13 +9,12 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "loopscan/core/timing.hpp"
+
 namespace loopscan::vo {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 double rotation_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;

@@ -1,6 +1,7 @@
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 
 #include "loopscan/core/parallel.hpp"
+#include "loopscan/core/timing.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -9,10 +10,6 @@
 
 namespace loopscan {
 namespace {
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 Eigen::Vector3d camera_center(const KeyframePose& k) {
   const auto R = k.T_cam_world.leftCols<3>();
