@@ -1,11 +1,13 @@
 #include "lidar_describe.hpp"
 
-#include <chrono>
+#include <algorithm>
 #include <cstdio>
+#include <exception>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
+#include "loopscan/core/parallel.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/core/scan/lidar_scan.hpp"
 #include "loopscan/core/timing.hpp"
@@ -28,27 +30,53 @@ void run_lidar_describe(const LidarDescribeArgs& a) {
   SequenceOptions options = SequenceOptions::make(method, mode, range);
   options.descriptors.scan_context.max_height = original;
   const std::vector<std::string> files = io::lidar_scan_files(a.scans);
+  // Scans are independent: read and described on a.threads threads (each file by one thread,
+  // so the signatures do not depend on the thread count); times are summed CPU milliseconds.
+  const std::size_t n_files = files.size();
   SequenceSignatures result;
-  double read_ms = 0, imitate_ms = 0, describe_ms = 0, points = 0, kept = 0;
-  std::size_t skipped = 0;
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    auto t0 = std::chrono::steady_clock::now();
-    io::LidarReadStats stats;
-    const Cloud lidar = io::read_lidar_scan(files[i], &stats);
-    read_ms += ms_since(t0);
-    skipped += stats.non_finite_skipped;
-    t0 = std::chrono::steady_clock::now();
-    const Cloud scan = lidar_scan_as_imitated(lidar, filter_for(method), options.imitation);
-    imitate_ms += ms_since(t0);
-    t0 = std::chrono::steady_clock::now();
-    Eigen::Matrix3d frame;
-    result.signatures.push_back(describe(method, scan, options.descriptors, &frame));
-    describe_ms += ms_since(t0);
-    result.frames.push_back(frame);
-    result.keyframe_ids.push_back(static_cast<int>(i));
-    points += static_cast<double>(lidar.size());
-    kept += static_cast<double>(scan.size());
+  result.signatures.resize(n_files);
+  result.frames.resize(n_files);
+  for (std::size_t i = 0; i < n_files; ++i) result.keyframe_ids.push_back(static_cast<int>(i));
+  struct Tally {
+    double read_ms = 0, imitate_ms = 0, describe_ms = 0, points = 0, kept = 0;
+    std::size_t skipped = 0;
+  };
+  const int threads = std::max(1, std::min<int>(a.threads, static_cast<int>(n_files)));
+  std::vector<Tally> tally(static_cast<std::size_t>(threads));
+  std::vector<std::exception_ptr> failed(n_files);
+  run_on_threads(threads, [&](int t) {
+    Tally& y = tally[static_cast<std::size_t>(t)];
+    for (std::size_t i = static_cast<std::size_t>(t); i < n_files; i += threads) {
+      try {
+        auto t0 = StageClock::now();
+        io::LidarReadStats stats;
+        const Cloud lidar = io::read_lidar_scan(files[i], &stats);
+        y.read_ms += ms_since(t0);
+        y.skipped += stats.non_finite_skipped;
+        t0 = StageClock::now();
+        const Cloud scan = lidar_scan_as_imitated(lidar, filter_for(method), options.imitation);
+        y.imitate_ms += ms_since(t0);
+        t0 = StageClock::now();
+        result.signatures[i] = describe(method, scan, options.descriptors, &result.frames[i]);
+        y.describe_ms += ms_since(t0);
+        y.points += static_cast<double>(lidar.size());
+        y.kept += static_cast<double>(scan.size());
+      } catch (...) {
+        failed[i] = std::current_exception();  // thrown below, the first file's first
+      }
+    }
+  });
+  for (const std::exception_ptr& e : failed) {
+    if (e) std::rethrow_exception(e);
   }
+  Tally all;
+  for (const Tally& y : tally) {
+    all.read_ms += y.read_ms, all.imitate_ms += y.imitate_ms, all.describe_ms += y.describe_ms;
+    all.points += y.points, all.kept += y.kept, all.skipped += y.skipped;
+  }
+  const double read_ms = all.read_ms, imitate_ms = all.imitate_ms, describe_ms = all.describe_ms,
+               points = all.points, kept = all.kept;
+  const std::size_t skipped = all.skipped;
   write_signatures(a.out, result, method);
   std::string list;
   for (const std::string& f : files) list += f + "\n";
@@ -59,6 +87,7 @@ void run_lidar_describe(const LidarDescribeArgs& a) {
                                  {"input", "lidar"},
                                  {"lidar_params", a.params},
                                  {"range_m", range},
+                                 {"threads", threads},
                                  {"max_height", original},
                                  {"n_signatures", files.size()},
                                  {"read_ms", read_ms / n},

@@ -99,6 +99,12 @@ TEST(CliReal, LidarScansOfAReverseRevisitMatchEachOther) {
         test::run("describe --method sc --lidar-params " + params + " --lidar " +
                   (shared / "data/lidar").string() + " " + pair.string() + " --out " + sig);
     ASSERT_EQ(r.code, 0) << r.output;
+    // Two threads describe the same places, byte for byte.
+    r = test::run("describe --method sc --threads 2 --lidar-params " + params + " --lidar " +
+                  (shared / "data/lidar").string() + " " + pair.string() + " --out " + sig + "2");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_EQ(test::file_bytes(path(sig) / "signatures.txt"),
+              test::file_bytes(path(sig + "2") / "signatures.txt"));
     ASSERT_EQ(test::run("db build --signatures " + sig + " --out " + db).code, 0);
     r = test::run("db query --db " + db + " --signatures " + sig + " --exact --k 2 --out " +
                   (dir / "q").string());
@@ -133,9 +139,10 @@ TEST(CliReal, LidarScansOfAReverseRevisitMatchEachOther) {
                 .code,
             2);
   test::write(dir / "short.bin", std::string(20, '\0'));
+  // Among good scans, described on two threads: the damaged one's error still comes back.
   const test::CliResult bad =
-      test::run("describe --method sc --lidar " + (dir / "short.bin").string() + " --out " +
-                (dir / "b").string());
+      test::run("describe --method sc --threads 2 --lidar " + pair.string() + " " +
+                (dir / "short.bin").string() + " --out " + (dir / "b").string());
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.output.find("short.bin: byte 16: a size that is a multiple of 16"),
             std::string::npos)
