@@ -15,10 +15,12 @@
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
+#include "loopscan/io/matrix_text.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/pr_plot.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
+#include "reproduce_script.hpp"
 #include "simulation_setup.hpp"
 
 namespace loopscan::cli {
@@ -26,6 +28,7 @@ namespace {
 
 struct DemoArgs {
   std::string out = "demo";
+  std::string trajectory = "builtin:city";
   unsigned seed = 7;
   int threads = 2;
 };
@@ -56,7 +59,7 @@ void run_demo(const DemoArgs& a) {
   const auto t_start = std::chrono::steady_clock::now();
   std::printf("[1/6] trajectory and world ...\n");
   std::fflush(stdout);
-  const LoadedTrajectory route = load_trajectory("builtin:city");
+  const LoadedTrajectory route = load_trajectory(a.trajectory);
   sim::WorldConfig wc;
   wc.seed = a.seed;
   const sim::World world = sim::World::build(route.trajectory.centres(), wc);
@@ -73,6 +76,8 @@ void run_demo(const DemoArgs& a) {
     vo.seed = c.noise_seed(a.seed);
     sessions.push_back(simulate_session(route, world, c, camera, vo, {}));
     write_session(a.out + "/" + names[i], route, sessions.back());
+    // From here on the session is its files: `describe` + `evaluate` on them recompute the table.
+    reload_session(a.out + "/" + names[i], route, sessions.back());
   }
 
   DemoResults results;
@@ -88,9 +93,10 @@ void run_demo(const DemoArgs& a) {
     SequenceSignatures sig[2];
     std::vector<Eigen::Vector3d> pos[2];
     for (int i = 0; i < 2; ++i) {
+      options.reset_ids = detect_vo_resets(sessions[i].vo.poses);  // as `describe` does
       sig[i] = describe_sequence(sessions[i].vo.poses, sessions[i].vo.points, options);
-      for (int id : sig[i].keyframe_ids)
-        pos[i].push_back(route.trajectory.T_world_cam[id].translation());
+      for (Signature& s : sig[i].signatures) s = io::as_written(s);  // signatures.txt's digits
+      for (int id : sig[i].keyframe_ids) pos[i].push_back(sessions[i].gt_positions[id]);
     }
     mr.imitate_ms = sig[0].imitate_ms;
     mr.describe_ms = sig[0].describe_ms;
@@ -105,9 +111,9 @@ void run_demo(const DemoArgs& a) {
     eo.protocol = eval::cross_session_protocol();
     mr.cross = eval::evaluate_places(sig[1].signatures, sig[0].signatures, pos[1], pos[0], eo);
     mr.query_positions = pos[1];
-    const std::vector<Eigen::Vector3d> heading[2] = {
-        headings_of(route.trajectory, sig[0].keyframe_ids),
-        headings_of(route.trajectory, sig[1].keyframe_ids)};
+    std::vector<Eigen::Vector3d> heading[2];
+    for (int i = 0; i < 2; ++i)
+      for (int id : sig[i].keyframe_ids) heading[i].push_back(sessions[i].gt_headings[id]);
     mr.same_by_direction = eval::split_by_direction(mr.same.pr, pos[0], pos[0], heading[0],
                                                     heading[0], eval::same_session_protocol());
     mr.cross_by_direction = eval::split_by_direction(mr.cross.pr, pos[1], pos[0], heading[1],
@@ -159,7 +165,10 @@ void run_demo(const DemoArgs& a) {
   page.figures.insert(page.figures.end(), closing.figures.begin(), closing.figures.end());
   io::write_file_atomic(a.out + "/report/index.html", report::render_html(page));
   write_figure_files(page, a.out + "/report/figures");
+  write_reproduce_script(a.out + "/report/reproduce.sh", demo_script(a.threads));
   std::printf("\nloop closing: %s\n", closing.summary.c_str());
+  std::printf("recompute the table from the written files: sh %s\n",
+              shown(a.out + "/report/reproduce.sh").c_str());
   std::printf("\n%zu / %zu keyframes, %.0f points per keyframe; finished in %.0f s -> %s\n",
               sessions[0].keyframe_ids.size(), sessions[1].keyframe_ids.size(),
               sessions[0].vo.mean_points_per_keyframe, seconds_since(t_start),
@@ -174,6 +183,8 @@ void add_demo_command(CLI::App& app) {
       "demo", "Simulate the built-in city in summer and winter, run all descriptors, report");
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();
   cmd->add_option("--seed", args->seed, "world seed")->capture_default_str();
+  cmd->add_option("--trajectory", args->trajectory, "route (builtin:short: a quick look)")
+      ->capture_default_str();
   cmd->add_option("--threads", args->threads, "threads for description and matching")
       ->check(finite_in(1, kMaxThreads))
       ->capture_default_str();

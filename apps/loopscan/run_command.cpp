@@ -19,11 +19,14 @@
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/incoming_ids.hpp"
+#include "loopscan/io/matrix_text.hpp"
+#include "loopscan/io/sodso.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/plot.hpp"
 #include "loopscan/report/pr_plot.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
+#include "reproduce_script.hpp"
 #include "run_report.hpp"
 #include "signature_outputs.hpp"
 #include "vo_outputs.hpp"
@@ -70,12 +73,15 @@ void run_all(const RunArgs& a) {
   VoArgs vo_args = a.vo;
   vo_args.out = a.out + "/vo";
   std::printf("[1/3] stereo VO on %s\n", a.vo.kitti.c_str());
-  const VoResult vo = run_vo_and_write(vo_args);
+  VoResult vo = run_vo_and_write(vo_args);
+  // Describe what the VO wrote (the SO-DSO files round points to 0.1 mm), as `describe` would.
+  vo.run.keyframe_poses = io::read_sodso_poses(vo_args.out + "/poses_history_file.txt");
+  vo.run.points = io::read_sodso_points(vo_args.out + "/pts_history_file.txt");
   std::vector<Eigen::Vector3d> gt_by_frame;          // per trajectory entry
   std::vector<Eigen::Vector3d> gt_rows, gt_forward;  // per frame id: position, heading
   if (!vo.gt_path.empty()) {
     for (const auto& T : vo.gt_poses) gt_rows.push_back(T.col(3));
-    for (const auto& T : vo.gt_poses) gt_forward.push_back(T.col(2));
+    for (const auto& T : vo.gt_poses) gt_forward.push_back(T.col(2).normalized());  // as read
     for (int f : vo.run.frame_ids) gt_by_frame.push_back(gt_rows[static_cast<std::size_t>(f)]);
   } else {
     std::printf("no ground truth (%s/poses.txt or --gt): describing without evaluation\n",
@@ -115,8 +121,10 @@ void run_all(const RunArgs& a) {
       const Method method = parse_method(name);
       SequenceOptions options = SequenceOptions::make(method, mode);
       options.threads = std::max(1, a.threads);
-      const SequenceSignatures sig =
-          describe_sequence(vo.run.keyframe_poses, vo.run.points, options);
+      if (mode == Mode::Default) options.reset_ids = detect_vo_resets(vo.run.keyframe_poses);
+      SequenceSignatures sig = describe_sequence(vo.run.keyframe_poses, vo.run.points, options);
+      // Evaluated at signatures.txt's 10 digits, so that `evaluate` on it gives the same digits.
+      for (Signature& s : sig.signatures) s = io::as_written(s);
       write_signatures(dir, sig, method);
       r.keyframe_ids = sig.keyframe_ids;
       r.prepare_ms = sig.imitate_ms;
@@ -221,12 +229,16 @@ void run_all(const RunArgs& a) {
     page.figures.push_back({"Precision-recall", report::pr_curve_svg(curves, "Precision-recall")});
   io::write_file_atomic(a.out + "/summary.json", summary.dump(1) + "\n");
   io::write_file_atomic(a.out + "/report.html", report::render_html(page));
+  write_reproduce_script(a.out + "/reproduce.sh",
+                         run_script(runs, a.mode, a.vo.kitti, a.vocab, vo.gt_path));
   std::printf("\nloop closing: %d loops accepted", closing["loops"]["accepted"].get<int>());
   if (closing.contains("ate_after_m")) {
     std::printf(", keyframe ATE %.3f m -> %.3f m", closing["ate_before_m"].get<double>(),
                 closing["ate_after_m"].get<double>());
   }
-  std::printf("\n-> %s/report.html\n", shown(a.out).c_str());
+  std::printf(
+      "\nrecompute the table from the written files: sh %s/reproduce.sh\n-> %s/report.html\n",
+      shown(a.out).c_str(), shown(a.out).c_str());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "loopscan/io/camera_settings.hpp"
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
+#include "loopscan/io/sodso.hpp"
 #include "loopscan/io/vo_files.hpp"
 
 namespace loopscan::cli {
@@ -103,6 +104,14 @@ void write_session(const std::string& dir, const LoadedTrajectory& t, const Sess
     io::write_kitti_poses(dir + "/gt.txt", gt);
   }
   io::write_file_atomic(dir + "/world.json", s.parameters.dump(1) + "\n");
+}
+
+void reload_session(const std::string& dir, const LoadedTrajectory& t, Session& s) {
+  s.vo.poses = io::read_sodso_poses(dir + "/poses_history_file.txt");
+  s.vo.points = io::read_sodso_points(dir + "/pts_history_file.txt");
+  const io::GtFormat format = t.gps ? io::GtFormat::RobotCar : io::GtFormat::Kitti;
+  s.gt_positions = io::read_positions(dir + "/gt.txt", format);
+  s.gt_headings = io::read_headings(dir + "/gt.txt", format);
 }
 
 sim::StereoCamera load_camera(const std::string& yaml_path) {

@@ -25,6 +25,8 @@ struct Session {
   sim::VoOutput vo;
   std::vector<int> keyframe_ids;
   nlohmann::json parameters;  // every parameter used
+  // Ground truth per frame id as `evaluate` reads it from gt.txt (set by reload_session).
+  std::vector<Eigen::Vector3d> gt_positions, gt_headings;
 };
 
 // One drive through `world` under `conditions`.
@@ -34,5 +36,10 @@ Session simulate_session(const LoadedTrajectory& t, const sim::World& world,
 
 // Writes poses_history_file.txt, pts_history_file.txt, gt.txt, world.json into `dir`.
 void write_session(const std::string& dir, const LoadedTrajectory& t, const Session& s);
+
+// Replaces the session's poses and points by what `describe` reads back from `dir` (the
+// SO-DSO files round them) and sets its ground truth from gt.txt: numbers computed from the
+// reloaded session are what `describe` + `evaluate` on the files give.
+void reload_session(const std::string& dir, const LoadedTrajectory& t, Session& s);
 
 }  // namespace loopscan::cli

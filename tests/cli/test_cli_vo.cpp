@@ -1,6 +1,7 @@
 // The `loopscan` CLI: vo and run on rendered images, the image baselines.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -19,7 +20,7 @@ using namespace loopscan::test;
 TEST(Cli, VoAndRunFromRenderedImages) {
   const fs::path d = temp_dir("vo");
   const std::string seq = (d / "seq").string();
-  ASSERT_EQ(run("render --trajectory builtin:short --scale 0.25 --frames 30 --out " + seq).code, 0);
+  ASSERT_EQ(run("render --trajectory builtin:short --scale 0.25 --frames 36 --out " + seq).code, 0);
   const CliResult vo =
       run("vo --kitti " + seq + " --out " + (d / "vo").string() + " --segments 10 20 --quiet");
   ASSERT_EQ(vo.code, 0) << vo.output;
@@ -30,7 +31,7 @@ TEST(Cli, VoAndRunFromRenderedImages) {
     EXPECT_TRUE(fs::exists(d / "vo" / f)) << f;
   std::ifstream json_in(d / "vo/vo.json");
   const nlohmann::json j = nlohmann::json::parse(json_in);
-  EXPECT_EQ(j["frames"].get<int>(), 30);
+  EXPECT_EQ(j["frames"].get<int>(), 36);
   EXPECT_GT(j["metrics"]["segments"].get<int>(), 0);
   EXPECT_LT(j["metrics"]["translation_percent"].get<double>(), 5.0);
   EXPECT_GT(j["fps"].get<double>(), 0.0);
@@ -60,7 +61,7 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   const nlohmann::json summary = nlohmann::json::parse(summary_in);
   ASSERT_EQ(summary["methods"].size(), 2u);
   for (const nlohmann::json& m : summary["methods"]) {
-    // 30 m are too short for the imitation's warm-up plus the 100-keyframe mask: nothing to score.
+    // 36 m are too short for the imitation's warm-up plus the 100-keyframe mask: nothing to score.
     EXPECT_EQ(m["evaluated"].get<bool>(), m["places"].get<int>() > 0);
     EXPECT_EQ(fs::exists(d / "run" / m["method"].get<std::string>() / "metrics.json"),
               m["evaluated"].get<bool>());
@@ -71,6 +72,14 @@ TEST(Cli, VoAndRunFromRenderedImages) {
     }
   }
   EXPECT_FALSE(has_temp_files(d));
+  // reproduce.sh: `describe` of the written VO files gives the run's signatures byte for byte.
+  const std::string script = (d / "run/reproduce.sh").string(), log = (d / "re.log").string();
+  EXPECT_NE(all.output.find("reproduce.sh"), std::string::npos) << all.output;
+  EXPECT_EQ(
+      std::system(("sh " + script + " " + (d / "re").string() + " >" + log + " 2>&1").c_str()), 0)
+      << file_bytes(log);
+  EXPECT_NE(file_bytes(script).find("cmp "), std::string::npos);
+  EXPECT_FALSE(read_lines(d / "run/sc/signatures.txt").empty());  // cmp compares something
   // Bad input: exit code 2, the file named, nothing written.
   const CliResult missing =
       run("vo --kitti " + (d / "nope").string() + " --out " + (d / "x").string());

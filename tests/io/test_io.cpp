@@ -110,6 +110,11 @@ TEST_F(IoTest, MatrixRoundTripAndFormat) {
     }
     write_matrix_text(p, m, 0);  // shortest round-trip text: exact
     EXPECT_TRUE(read_matrix_text(p, 0, any) == m) << name;
+    for (int digits : {10, 3, 0}) {  // as_written: bit for bit what is read back
+      write_matrix_text(p, m, digits);
+      EXPECT_TRUE(read_matrix_text(p, 0, any) == as_written(m, digits)) << name << " " << digits;
+    }
+    EXPECT_FALSE(as_written(m) == m);  // 10 digits do not hold a double
   }
   EXPECT_EQ(slurp((dir_ / "sub/dir/m.txt.gz").string()).substr(0, 2), "\x1f\x8b");  // gzip magic
   const Eigen::MatrixXd small = (Eigen::MatrixXd(2, 2) << 1, 0.5, -2.25, 1e-20).finished();

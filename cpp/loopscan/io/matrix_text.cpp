@@ -15,6 +15,21 @@ namespace {
 
 std::string numbers_expected(std::size_t cols) { return std::to_string(cols) + " numbers"; }
 
+void check_digits(int significant_digits) {
+  if (significant_digits < 0 || significant_digits > 17) {
+    throw std::invalid_argument("write_matrix_text: significant_digits must be in [0, 17], got " +
+                                std::to_string(significant_digits));
+  }
+}
+
+// One number as write_matrix_text formats it; returns the end of the text.
+char* format_number(char* first, char* last, double v, int significant_digits) {
+  return (significant_digits == 0
+              ? std::to_chars(first, last, v)
+              : std::to_chars(first, last, v, std::chars_format::general, significant_digits))
+      .ptr;
+}
+
 }  // namespace
 
 Eigen::MatrixXd read_matrix_text(const std::string& path, std::size_t expected_cols,
@@ -49,10 +64,7 @@ Eigen::MatrixXd read_matrix_text(const std::string& path, std::size_t expected_c
 
 void write_matrix_text(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
                        int significant_digits) {
-  if (significant_digits < 0 || significant_digits > 17) {
-    throw std::invalid_argument("write_matrix_text: significant_digits must be in [0, 17], got " +
-                                std::to_string(significant_digits));
-  }
+  check_digits(significant_digits);
   TextFileWriter writer(path);
   // Format into a large chunk and hand it over in one piece: no per-number stream calls.
   constexpr std::size_t kChunk = std::size_t{1} << 20;
@@ -66,12 +78,8 @@ void write_matrix_text(const std::string& path, const Eigen::Ref<const Eigen::Ma
     for (Eigen::Index c = 0; c < m.cols(); ++c) {
       if (c > 0) base[used++] = ' ';
       char* const first = base + used;
-      char* const last = first + kMaxNumber;
-      const std::to_chars_result res =
-          significant_digits == 0
-              ? std::to_chars(first, last, m(r, c))
-              : std::to_chars(first, last, m(r, c), std::chars_format::general, significant_digits);
-      used = static_cast<std::size_t>(res.ptr - base);
+      used = static_cast<std::size_t>(
+          format_number(first, first + kMaxNumber, m(r, c), significant_digits) - base);
       if (used >= kChunk) {
         writer.write(std::string_view(base, used));
         used = 0;
@@ -85,6 +93,21 @@ void write_matrix_text(const std::string& path, const Eigen::Ref<const Eigen::Ma
   }
   writer.write(std::string_view(base, used));
   writer.commit();
+}
+
+Eigen::MatrixXd as_written(const Eigen::Ref<const Eigen::MatrixXd>& m, int significant_digits) {
+  check_digits(significant_digits);
+  Eigen::MatrixXd out(m.rows(), m.cols());
+  char text[40];
+  for (Eigen::Index c = 0; c < m.cols(); ++c) {
+    for (Eigen::Index r = 0; r < m.rows(); ++r) {
+      // The reader's parse (from_chars), so that the value is bit for bit the one read back.
+      char* const end = format_number(text, text + sizeof text, m(r, c), significant_digits);
+      if (!parse_number(std::string_view(text, static_cast<std::size_t>(end - text)), out(r, c)))
+        throw std::invalid_argument("as_written: cannot read back a written number");
+    }
+  }
+  return out;
 }
 
 }  // namespace loopscan::io

@@ -24,4 +24,9 @@ Eigen::MatrixXd read_matrix_text(const std::string& path, std::size_t expected_c
 void write_matrix_text(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m,
                        int significant_digits = 10);
 
+// The values read_matrix_text returns for what write_matrix_text writes with the same digits:
+// code that prints numbers and writes the signatures computes them from these, so that a
+// `describe` + `evaluate` of its files gives the same digits.
+Eigen::MatrixXd as_written(const Eigen::Ref<const Eigen::MatrixXd>& m, int significant_digits = 10);
+
 }  // namespace loopscan::io
