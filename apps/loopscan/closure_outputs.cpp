@@ -17,6 +17,7 @@
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/text_file_writer.hpp"
 #include "loopscan/io/vo_files.hpp"
+#include "progress.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -92,6 +93,7 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
   std::sort(resets.begin(), resets.end());
   std::size_t next = 0;
   int accepted = 0;
+  StepProgress bar("close loops", "keyframes", !progress);
   for (std::size_t k = 0; k < poses.size(); ++k) {
     const std::size_t first = next;
     while (next < points.size() && points[next].id <= poses[k].id) ++next;
@@ -99,12 +101,9 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
     const closure::KeyframeClosure r =
         closer.add_keyframe(poses[k], points.data() + first, next - first, reset);
     accepted += int(r.accepted.size());
-    if (progress && (k % 200 == 0 || k + 1 == poses.size())) {
-      std::fprintf(stderr, "\rclosing loops: keyframe %zu/%zu, %d loops accepted", k + 1,
-                   poses.size(), accepted);
-    }
+    bar.update(k + 1, poses.size());
   }
-  if (progress) std::fprintf(stderr, "\n");
+  bar.finish(", " + std::to_string(accepted) + " loops accepted");
   closer.finish();
   ClosureRun run;
   run.input = poses;
@@ -273,10 +272,12 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
                                 {"rotation_deg_per_100m", ka.rotation_deg_per_100m}};
     }
   }
-  const std::string figure = closure_trajectory_svg(run, gt, loop_true);
-  io::write_file_atomic(dir + "/trajectory.svg", figure);
+  const ClosureFigures figures = closure_figures(run, gt, loop_true);
+  io::write_file_atomic(dir + "/trajectory.svg", figures.map);
+  if (!figures.error.empty()) io::write_file_atomic(dir + "/error.svg", figures.error);
   io::write_file_atomic(dir + "/metrics.json", m.dump(1) + "\n");
-  m["figure_svg"] = figure;
+  m["figure_svg"] = figures.map;
+  if (!figures.error.empty()) m["error_figure_svg"] = figures.error;
   return m;
 }
 
@@ -286,7 +287,7 @@ nlohmann::json close_vo_run(const std::string& dir, const std::vector<KeyframePo
   const closure::LoopCloserConfig config =
       closure::LoopCloserConfig::make(Method::ScanContext, mode);
   std::filesystem::create_directories(dir);
-  return write_closure_outputs(dir, run_closer(config, poses, points, resets, false), config, gt,
+  return write_closure_outputs(dir, run_closer(config, poses, points, resets, true), config, gt,
                                {}, 10.0);
 }
 

@@ -8,15 +8,21 @@
 #include <nlohmann/json.hpp>
 
 #include "closure_outputs.hpp"
-#include "simulation_setup.hpp"
 #include "loopscan/report/html_page.hpp"
+#include "simulation_setup.hpp"
 
 namespace loopscan::cli {
 
+struct ClosureFigures {
+  std::string map;    // trajectories seen from above, loops as segments
+  std::string error;  // APE over distance, before and after (empty without ground truth)
+};
+
 // Trajectories before and after, aligned to the ground truth (without it, to the input's
-// frame), accepted loops as segments, false ones (loop_true[i] == 0) in red.
-std::string closure_trajectory_svg(const ClosureRun& run, const std::optional<GroundTruth>& gt,
-                                   const std::vector<char>& loop_true);
+// frame), accepted loops as segments, false ones (loop_true[i] == 0) in red; with ground truth
+// evo-style: the closed trajectory coloured by its error, and the error over distance.
+ClosureFigures closure_figures(const ClosureRun& run, const std::optional<GroundTruth>& gt,
+                               const std::vector<char>& loop_true);
 
 // `run`'s report table of the loop-closing step (metrics.json's content).
 report::Table closing_table(const nlohmann::json& metrics);

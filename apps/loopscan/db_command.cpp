@@ -20,6 +20,7 @@
 #include "loopscan/io/signature_set.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
+#include "progress.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -67,6 +68,7 @@ void run_build(const BuildArgs& a) {
     io::SignatureSet set = io::load_signature_set(a.signatures[s], config.method);
     if (!a.gt.empty()) io::attach_positions(set, a.gt[s], a.gt_format);
     const int session = a.first_session + static_cast<int>(s);
+    StepProgress progress("db build: session " + std::to_string(session), "places");
     for (std::size_t i = 0; i < set.places.size(); ++i) {
       std::optional<Pose3x4> pose;
       if (!set.positions.empty()) pose = position_pose(set.positions[i], set.headings[i]);
@@ -75,7 +77,9 @@ void run_build(const BuildArgs& a) {
       } catch (const std::invalid_argument& e) {
         throw io::InputError(a.signatures[s], 0, e.what());
       }
+      progress.update(i + 1, set.places.size());
     }
+    progress.finish();
     std::printf("session %d: %zu places from %s\n", session, set.places.size(),
                 a.signatures[s].c_str());
   }
@@ -114,6 +118,7 @@ void run_query(const QueryArgs& a) {
   csv << "query_id,rank,session,keyframe,distance,yaw_deg,mirrored\n";
   std::vector<eval::QueryMatch> matches;
   double total_ms = 0;
+  StepProgress progress("db query", "queries");
   for (std::size_t i = 0; i < queries.places.size(); ++i) {
     if (a.mask > 0) {  // the database holds this very sequence: skip its neighbours
       options.accept = outside_band(i, static_cast<std::size_t>(a.mask));
@@ -141,7 +146,9 @@ void run_query(const QueryArgs& a) {
     matches.push_back(
         found.empty() ? eval::QueryMatch{q, -1, std::numeric_limits<double>::infinity()}
                       : eval::QueryMatch{q, static_cast<int>(found[0].index), found[0].distance});
+    progress.update(i + 1, queries.places.size());
   }
+  progress.finish();
   std::filesystem::create_directories(a.out);
   io::write_file_atomic(a.out + "/candidates.csv", csv.str());
   const double query_ms = queries.places.empty() ? 0.0 : total_ms / queries.places.size();

@@ -20,6 +20,7 @@
 #include "loopscan/report/pr_plot.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
+#include "progress.hpp"
 #include "reproduce_script.hpp"
 #include "simulation_setup.hpp"
 
@@ -57,24 +58,35 @@ void write_figure_files(const report::HtmlPage& page, const std::string& dir) {
 
 void run_demo(const DemoArgs& a) {
   const auto t_start = std::chrono::steady_clock::now();
-  std::printf("[1/6] trajectory and world ...\n");
-  std::fflush(stdout);
+  // One numbered line per step; each part then ends with its own time (progress.hpp).
+  constexpr int kSteps = 8;
+  int step_number = 0;
+  auto step = [&](const std::string& what) {
+    std::printf("[%d/%d] %s\n", ++step_number, kSteps, what.c_str());
+    std::fflush(stdout);
+  };
+  step("route and world");
+  StepProgress world_time("  world", "objects");
   const LoadedTrajectory route = load_trajectory(a.trajectory);
   sim::WorldConfig wc;
   wc.seed = a.seed;
   const sim::World world = sim::World::build(route.trajectory.centres(), wc);
   const sim::StereoCamera camera;
+  world_time.update(world.object_count(), world.object_count());
+  world_time.finish();
 
   std::vector<Session> sessions;
   const char* names[2] = {"summer", "winter"};
   for (int i = 0; i < 2; ++i) {
-    std::printf("[2/6] simulating the %s drive ... (%.0f s)\n", names[i], seconds_since(t_start));
-    std::fflush(stdout);
+    step(std::string("the ") + names[i] + " drive: simulated stereo VO");
+    StepProgress progress("  simulate", "keyframes");
     sim::Conditions c = sim::Conditions::for_season(sim::parse_season(names[i]));
     c.session_seed = 100 + i;
     sim::VoSimConfig vo;
     vo.seed = c.noise_seed(a.seed);
+    vo.progress = progress.callback();
     sessions.push_back(simulate_session(route, world, c, camera, vo, {}));
+    progress.finish();
     write_session(a.out + "/" + names[i], route, sessions.back());
     // From here on the session is its files: `describe` + `evaluate` on them recompute the table.
     reload_session(a.out + "/" + names[i], route, sessions.back());
@@ -82,10 +94,11 @@ void run_demo(const DemoArgs& a) {
 
   DemoResults results;
   results.route = &route.trajectory;
+  results.threads = a.threads;
   for (Method method : {Method::ScanContext, Method::M2dp, Method::Delight}) {
-    std::printf("[3/6] describing with %s ... (%.0f s)\n", method_name(method).c_str(),
-                seconds_since(t_start));
-    std::fflush(stdout);
+    step(method_name(method) +
+         ": describe both drives, then match summer against itself and "
+         "winter against summer");
     MethodResult mr;
     mr.method = method;
     SequenceOptions options = SequenceOptions::make(method, Mode::Default);
@@ -94,22 +107,33 @@ void run_demo(const DemoArgs& a) {
     std::vector<Eigen::Vector3d> pos[2];
     for (int i = 0; i < 2; ++i) {
       options.reset_ids = detect_vo_resets(sessions[i].vo.poses);  // as `describe` does
+      StepProgress progress(std::string("  describe ") + names[i], "keyframes");
+      options.progress = progress.callback();
       sig[i] = describe_sequence(sessions[i].vo.poses, sessions[i].vo.points, options);
+      progress.finish();
       for (Signature& s : sig[i].signatures) s = io::as_written(s);  // signatures.txt's digits
       for (int id : sig[i].keyframe_ids) pos[i].push_back(sessions[i].gt_positions[id]);
     }
     mr.imitate_ms = sig[0].imitate_ms;
     mr.describe_ms = sig[0].describe_ms;
-    std::printf("[4/6] evaluating %s ... (%.0f s)\n", method_name(method).c_str(),
-                seconds_since(t_start));
-    std::fflush(stdout);
     eval::PlaceEvaluationOptions eo;
     eo.method = method;
     eo.threads = a.threads;
     eo.fusion = default_fusion(Mode::Default);
-    mr.same = eval::evaluate_places(sig[0].signatures, sig[0].signatures, pos[0], pos[0], eo);
-    eo.protocol = eval::cross_session_protocol();
-    mr.cross = eval::evaluate_places(sig[1].signatures, sig[0].signatures, pos[1], pos[0], eo);
+    {
+      StepProgress progress("  match summer vs summer", "rows");
+      eo.progress = progress.callback();
+      mr.same = eval::evaluate_places(sig[0].signatures, sig[0].signatures, pos[0], pos[0], eo);
+      progress.finish();
+    }
+    {
+      StepProgress progress("  match winter vs summer", "rows");
+      eo.progress = progress.callback();
+      eo.protocol = eval::cross_session_protocol();
+      mr.cross = eval::evaluate_places(sig[1].signatures, sig[0].signatures, pos[1], pos[0], eo);
+      progress.finish();
+    }
+    mr.map_positions = pos[0];
     mr.query_positions = pos[1];
     std::vector<Eigen::Vector3d> heading[2];
     for (int i = 0; i < 2; ++i)
@@ -126,11 +150,9 @@ void run_demo(const DemoArgs& a) {
     results.methods.push_back(mr);
   }
 
-  std::printf("[5/6] closing loops: summer, then winter in the summer map ... (%.0f s)\n",
-              seconds_since(t_start));
-  std::fflush(stdout);
+  step("loop closing: the summer drive, then the winter drive in the summer map");
   const DemoClosing closing = close_demo_sessions(a.out, route, sessions);
-  std::printf("[6/6] report ... (%.0f s)\n", seconds_since(t_start));
+  step("report");
   std::printf("\n%-8s | %-26s | %-26s | %9s %9s %9s\n", "", "summer vs summer", "winter vs summer",
               "imitate", "describe", "query");
   std::printf("%-8s | %8s %8s %8s | %8s %8s %8s | %9s %9s %9s\n", "method", "AUC", "R@100P",

@@ -1,13 +1,15 @@
 #include "demo_figures.hpp"
 
 #include <cmath>
-#include <limits>
+#include <cstdio>
 
 #include "demo_opposite.hpp"
 #include "evaluation_outputs.hpp"
+#include "loopscan/report/frame.hpp"
 #include "loopscan/report/heatmap.hpp"
 #include "loopscan/report/plot.hpp"
 #include "loopscan/report/pr_plot.hpp"
+#include "loopscan/report/recognition_map.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -20,43 +22,20 @@ std::string pr_figure(const DemoResults& r, bool cross, const std::string& title
   return report::pr_curve_svg(curves, title);
 }
 
-// Route in gray; places recognised at 100% precision (Scan Context, winter vs summer) in red.
-std::string route_figure(const DemoResults& r) {
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  report::Series route{"route", {}, {}, "#999999"},
-      hits{"recognised at 100% precision", {}, {}, "#d62728"};
-  for (const Eigen::Isometry3d& T : r.route->T_world_cam) {
-    route.x.push_back(T.translation().x());
-    route.y.push_back(T.translation().z());
-  }
-  const MethodResult& sc = r.methods.front();
-  const auto& ranked = sc.cross.pr.ranked;
-  std::size_t last_exact = 0;  // matches up to the last rank with precision 1
-  for (std::size_t k = 0; k < sc.cross.pr.curve.size(); ++k) {
-    if (sc.cross.pr.curve[k].precision == 1.0) last_exact = k + 1;
-  }
-  for (std::size_t k = 0; k < last_exact && k < ranked.size(); ++k) {
-    const Eigen::Vector3d& p = sc.query_positions[ranked[k].m.query];
-    for (double d : {-2.5, 2.5}) {  // a small cross per place, separated by NaN breaks
-      hits.x.push_back(p.x() + d);
-      hits.y.push_back(p.z() + d);
-    }
-    hits.x.push_back(nan);
-    hits.y.push_back(nan);
-    hits.x.push_back(p.x() - 2.5);
-    hits.y.push_back(p.z() + 2.5);
-    hits.x.push_back(p.x() + 2.5);
-    hits.y.push_back(p.z() - 2.5);
-    hits.x.push_back(nan);
-    hits.y.push_back(nan);
-  }
-  return report::map_plot_svg({route, hits},
-                              "Scan Context, winter queries vs summer map: places recognised at "
-                              "100% precision");
+// The paper's route figure for Scan Context, one session pair.
+std::string route_figure(const MethodResult& sc, bool cross) {
+  report::RecognitionMap map;
+  map.title =
+      cross ? "Scan Context, winter queries vs summer map" : "Scan Context, summer vs summer";
+  map.query_pos = cross ? sc.query_positions : sc.map_positions;
+  map.db_pos = sc.map_positions;
+  map.protocol = cross ? eval::cross_session_protocol() : eval::same_session_protocol();
+  return report::recognition_map_svg(map, (cross ? sc.cross : sc.same).pr);
 }
 
+// Top view of the scan with the sensor as a triangle pointing along its heading (+z, ahead).
 std::string scan_figure(const ExampleScan& e) {
-  report::Series pts{"imitated scan", {}, {}, "#1f77b4"};
+  report::Series pts{"imitated scan point", {}, {}, "#1f77b4"};
   for (const PointI& q : e.scan) {
     pts.x.push_back(q.p.x());
     pts.y.push_back(q.p.z());
@@ -64,21 +43,47 @@ std::string scan_figure(const ExampleScan& e) {
   report::PlotOptions o;
   o.title = "Imitated LiDAR scan, top view (keyframe " + std::to_string(e.keyframe_id) + ")";
   o.x_label = "x (right) [m]";
-  o.y_label = "z (forward) [m]";
+  o.y_label = "z (ahead) [m]";
   o.x_min = o.x_max = o.y_min = o.y_max = 0;  // ranged from the data
   o.points = true;
   o.equal_aspect = true;
-  return report::line_plot_svg({pts}, o);
+  std::string svg = report::line_plot_svg({pts}, o);
+  // The sensor is drawn on top in the plot's own pixel frame (markers mode has no lines).
+  const report::PlotFrame f = report::make_frame({pts}, o);
+  const double cx = f.to_px_x(0), cy = f.to_px_y(0), s = 9;
+  char marker[512];
+  std::snprintf(
+      marker, sizeof marker,
+      "<g class=\"sensor\"><path d=\"M%.1f,%.1f L%.1f,%.1f L%.1f,%.1f Z\" fill=\"#d62728\" "
+      "stroke=\"black\"/><text x=\"%.1f\" y=\"%.1f\" fill=\"#d62728\" stroke=\"white\" stroke-width=\"3\" "
+                "paint-order=\"stroke\">sensor, "
+      "heading +z</text></g>\n</svg>\n",
+      cx, cy - 1.6 * s, cx - s, cy + s, cx + s, cy + s, cx + s + 4, cy + s);
+  svg.replace(svg.rfind("</svg>"), std::string::npos, marker);
+  return svg;
 }
 
-std::string scan_context_figure(const ExampleScan& e) {
-  const int rings = 20, sectors = 60;
+// One half of the default Scan Context (row 0, the place itself) as rings x sectors.
+std::string scan_context_figure(const ExampleScan& e, const SequenceOptions& options,
+                                bool intensity) {
+  const ScanContextConfig& c = options.descriptors.scan_context;
+  const int rings = c.rings, sectors = c.sectors, offset = intensity ? rings * sectors : 0;
   Eigen::MatrixXd image(rings, sectors);
   for (int s = 0; s < sectors; ++s) {
-    for (int r = 0; r < rings; ++r) image(r, s) = e.scan_context(0, s * rings + r);
+    for (int r = 0; r < rings; ++r) image(r, s) = e.scan_context(0, offset + s * rings + r);
   }
-  return report::heatmap_svg(image, "Scan Context (structure: height range per bin)",
-                             "sector (6 deg each)", "ring (2.25 m each)");
+  report::HeatmapOptions o;
+  o.title = intensity ? "Scan Context, intensity half: bin brighter than the scan's mean gray"
+                      : "Scan Context, structure half: height range per bin";
+  o.x_label = "azimuth [deg] (0 = right, 90 = ahead, 180 = left)";
+  o.y_label = "distance from the sensor [m]";
+  o.colorbar_label = intensity ? "brighter (1) or not (0)" : "height range [m]";
+  o.x_first = -180;  // sector 0 starts at atan2(ahead, right) = -180 deg
+  o.x_last = 180;
+  o.y_first = 0;  // ring 0 (nearest) on top
+  o.y_last = c.max_radius_m;
+  if (intensity) o.hi = 1;
+  return report::heatmap_svg(image, o);
 }
 
 }  // namespace
@@ -104,7 +109,8 @@ report::HtmlPage demo_page(const DemoResults& r) {
       "keyframes against the summer map (25 m, no mask), the paper's RobotCar protocol. Default "
       "mode, one exact difference-matrix row per query.");
   report::Table t;
-  t.caption = "Accuracy and run time (ms per keyframe / per query, one thread)";
+  t.caption = "Accuracy and run time (ms per keyframe / per query, " + std::to_string(r.threads) +
+              (r.threads == 1 ? " thread)" : " threads)");
   t.header = {"method",       "AUC same", "R@100P same", "F1 same",     "AUC cross",
               "R@100P cross", "F1 cross", "imitate ms",  "describe ms", "query ms"};
   for (const MethodResult& m : r.methods) {
@@ -134,9 +140,16 @@ report::HtmlPage demo_page(const DemoResults& r) {
       {"Precision-recall, summer vs summer", pr_figure(r, false, "Same season")});
   page.figures.push_back(
       {"Precision-recall, winter vs summer", pr_figure(r, true, "Cross season")});
-  page.figures.push_back({"Route and recognised places", route_figure(r)});
+  page.figures.push_back({"Places recognised by Scan Context, summer vs summer",
+                          route_figure(r.methods.front(), false)});
+  page.figures.push_back({"Places recognised by Scan Context, winter vs summer",
+                          route_figure(r.methods.front(), true)});
   page.figures.push_back({"One imitated scan", scan_figure(r.example)});
-  page.figures.push_back({"Its Scan Context", scan_context_figure(r.example)});
+  const SequenceOptions sc_options = SequenceOptions::make(Method::ScanContext, Mode::Default);
+  page.figures.push_back(
+      {"Its Scan Context, structure", scan_context_figure(r.example, sc_options, false)});
+  page.figures.push_back(
+      {"Its Scan Context, intensity", scan_context_figure(r.example, sc_options, true)});
   page.figures.insert(page.figures.end(), r.opposite.begin(), r.opposite.end());
   return page;
 }

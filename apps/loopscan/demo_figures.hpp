@@ -14,6 +14,7 @@ struct MethodResult {
   Method method = Method::ScanContext;
   eval::PlaceEvaluation same, cross;
   eval::DirectionSplit same_by_direction, cross_by_direction;
+  std::vector<Eigen::Vector3d> map_positions;    // summer keyframes (the map, same-season queries)
   std::vector<Eigen::Vector3d> query_positions;  // cross-season queries (winter keyframes)
   double imitate_ms = 0, describe_ms = 0;
 };
@@ -26,6 +27,7 @@ struct ExampleScan {
 
 struct DemoResults {
   const sim::Trajectory* route = nullptr;
+  int threads = 1;  // for describing and matching (the table's run times)
   std::vector<MethodResult> methods;
   ExampleScan example;
   std::vector<report::Figure> opposite;  // one reverse revisit's scans (demo_opposite.hpp)

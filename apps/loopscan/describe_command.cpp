@@ -15,6 +15,7 @@
 #include "loopscan/io/sodso.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
+#include "progress.hpp"
 #include "signature_outputs.hpp"
 
 namespace loopscan::cli {
@@ -105,7 +106,10 @@ void run_describe(const DescribeArgs& a) {
     options.reset_ids =
         a.reset_ids.empty() ? detect_vo_resets(poses) : io::read_incoming_ids(a.reset_ids);
   }
+  StepProgress progress("describe " + method_name(method), "keyframes");
+  options.progress = progress.callback();
   const SequenceSignatures result = describe_sequence(poses, points, options);
+  progress.finish(", " + std::to_string(result.signatures.size()) + " signatures");
   if (result.signatures.empty()) {
     std::fprintf(stderr,
                  "warning: no signatures: %zu keyframes, but the first %d after each VO reset "

@@ -12,6 +12,7 @@
 #include "loopscan/io/signature_set.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
+#include "progress.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -57,8 +58,11 @@ void run_evaluate(const EvaluateArgs& a) {
   // Reference mode: double precision and the Matlab quirks, to match the authors' numbers.
   options.precision = mode == Mode::Reference ? Precision::Double : Precision::Float;
   options.reference_quirks = mode == Mode::Reference;
+  StepProgress progress("evaluate " + method_name(method), "difference-matrix rows");
+  options.progress = progress.callback();
   const eval::PlaceEvaluation ev =
       eval::evaluate_places(queries.places, db.places, queries.positions, db.positions, options);
+  progress.finish();
 
   nlohmann::json metrics = {
       {"method", method_name(method)},

@@ -13,6 +13,7 @@
 #include "loopscan/sim/renderer.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
+#include "progress.hpp"
 #include "simulation_setup.hpp"
 
 namespace loopscan::cli {
@@ -62,7 +63,7 @@ void run_render(const RenderArgs& a) {
   namespace fs = std::filesystem;
   fs::create_directories(a.out + "/image_0");
   fs::create_directories(a.out + "/image_1");
-  const auto t0 = std::chrono::steady_clock::now();
+  StepProgress progress("render", "stereo pairs");
   std::vector<Eigen::Matrix<double, 3, 4>> poses;
   std::ostringstream times;
   for (int i = 0; i < count; ++i) {
@@ -77,11 +78,9 @@ void run_render(const RenderArgs& a) {
     }
     poses.push_back(t.trajectory.T_world_cam[f].matrix().topRows<3>());
     times << std::scientific << 0.1 * i << '\n';
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::printf("\rrendered %d / %d frames (%.1f fps)", i + 1, count, (i + 1) / s);
-    std::fflush(stdout);
+    progress.update(std::size_t(i + 1), std::size_t(count));
   }
-  std::printf("\n");
+  progress.finish();
   io::write_file_atomic(a.out + "/calib.txt", calib_text(camera));
   io::write_file_atomic(a.out + "/times.txt", times.str());
   io::write_kitti_poses(a.out + "/poses.txt", poses);

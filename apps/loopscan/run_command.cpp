@@ -26,6 +26,7 @@
 #include "loopscan/report/pr_plot.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
+#include "progress.hpp"
 #include "reproduce_script.hpp"
 #include "run_report.hpp"
 #include "signature_outputs.hpp"
@@ -41,28 +42,6 @@ struct RunArgs {
   int threads = 2;
 };
 
-report::Figure trajectory_figure(const VoResult& vo, const std::vector<Eigen::Vector3d>& gt) {
-  // The VO starts at the identity; drawn from the first frame's ground-truth pose.
-  report::Series truth{"ground truth", {}, {}, "#444444"}, estimate{"VO", {}, {}, "#d62728"};
-  Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();
-  if (!gt.empty()) {
-    anchor.matrix().topRows<3>() = vo.gt_poses[static_cast<std::size_t>(vo.run.frame_ids.front())];
-  }
-  for (std::size_t i = 0; i < vo.run.trajectory.size(); ++i) {
-    const Eigen::Vector3d p = anchor * vo.run.trajectory[i].translation();
-    estimate.x.push_back(p.x());
-    estimate.y.push_back(p.z());
-    if (!gt.empty()) {
-      truth.x.push_back(gt[i].x());
-      truth.y.push_back(gt[i].z());
-    }
-  }
-  std::vector<report::Series> series;
-  if (!gt.empty()) series.push_back(truth);
-  series.push_back(estimate);
-  return {"Trajectory seen from above (x, z)", report::map_plot_svg(series, "Trajectory")};
-}
-
 void run_all(const RunArgs& a) {
   const Mode mode = parse_mode(a.mode);
   for (const std::string& name : a.methods) {  // before the VO runs
@@ -72,7 +51,14 @@ void run_all(const RunArgs& a) {
   }
   VoArgs vo_args = a.vo;
   vo_args.out = a.out + "/vo";
-  std::printf("[1/3] stereo VO on %s\n", a.vo.kitti.c_str());
+  // One numbered line per step; the parts of each end with their own time (progress.hpp).
+  const int steps = 3 + static_cast<int>(a.methods.size());
+  int step_number = 0;
+  auto step = [&](const std::string& what) {
+    std::printf("[%d/%d] %s\n", ++step_number, steps, what.c_str());
+    std::fflush(stdout);
+  };
+  step("stereo VO on " + a.vo.kitti);
   VoResult vo = run_vo_and_write(vo_args);
   // Describe what the VO wrote (the SO-DSO files round points to 0.1 mm), as `describe` would.
   vo.run.keyframe_poses = io::read_sodso_poses(vo_args.out + "/poses_history_file.txt");
@@ -100,8 +86,7 @@ void run_all(const RunArgs& a) {
   bool places_from_lidar = false;
   std::vector<MethodRun> runs;
   for (const std::string& name : order) {
-    std::printf("[2/3] describing with %s\n", name.c_str());
-    std::fflush(stdout);
+    step(name + ": describe the keyframes" + (gt_rows.empty() ? "" : ", then match them"));
     MethodRun r;
     r.name = name;
     const std::string dir = a.out + "/" + name;
@@ -122,7 +107,10 @@ void run_all(const RunArgs& a) {
       SequenceOptions options = SequenceOptions::make(method, mode);
       options.threads = std::max(1, a.threads);
       if (mode == Mode::Default) options.reset_ids = detect_vo_resets(vo.run.keyframe_poses);
+      StepProgress describing("  describe", "keyframes");
+      options.progress = describing.callback();
       SequenceSignatures sig = describe_sequence(vo.run.keyframe_poses, vo.run.points, options);
+      describing.finish();
       // Evaluated at signatures.txt's 10 digits, so that `evaluate` on it gives the same digits.
       for (Signature& s : sig.signatures) s = io::as_written(s);
       write_signatures(dir, sig, method);
@@ -144,8 +132,11 @@ void run_all(const RunArgs& a) {
         eo.reference_quirks = mode == Mode::Reference;
         eo.fusion = default_fusion(mode);
         const std::vector<Eigen::Vector3d> positions = positions_of(sig.keyframe_ids);
+        StepProgress matching("  match", "rows");
+        eo.progress = matching.callback();
         const eval::PlaceEvaluation ev =
             eval::evaluate_places(sig.signatures, sig.signatures, positions, positions, eo);
+        matching.finish();
         r.pr = ev.pr;
         r.query_ms = ev.query_ms;
         r.by_direction = split(r.keyframe_ids);
@@ -154,15 +145,18 @@ void run_all(const RunArgs& a) {
     } else {
       const io::KittiSequence sequence = io::open_kitti_sequence(a.vo.kitti);
       baselines::ImageDescriptors d;
+      StepProgress describing("  describe", "images");
       if (name == "gist") {
         r.has_describe_step = false;
         d = baselines::describe_gist(
             sequence, places,
             mode == Mode::Reference ? baselines::GistConfig::lear_c() : baselines::GistConfig{},
-            std::max(1, a.threads));
+            std::max(1, a.threads), describing.callback());
       } else {
-        d = baselines::describe_bow(sequence, places, baselines::read_vocabulary(a.vocab));
+        d = baselines::describe_bow(sequence, places, baselines::read_vocabulary(a.vocab), {},
+                                    describing.callback());
       }
+      describing.finish();
       r.keyframe_ids = places;
       r.prepare_ms = d.extract_ms;
       r.describe_ms = d.transform_ms;
@@ -184,15 +178,19 @@ void run_all(const RunArgs& a) {
     runs.push_back(std::move(r));
   }
 
-  std::printf("[3/4] loop closing (Scan Context, verified, pose graph)\n");
+  step("loop closing (Scan Context, verified, pose graph)");
   std::optional<GroundTruth> gt;
   if (!vo.gt_path.empty()) gt = read_ground_truth(vo.gt_path, "kitti", vo.run.keyframe_poses);
   nlohmann::json closing = close_vo_run(a.out + "/closure", vo.run.keyframe_poses, vo.run.points,
                                         vo.run.reset_frames, gt, mode);
   const std::string closing_svg = closing["figure_svg"].get<std::string>();
   closing.erase("figure_svg");
-  std::printf("[4/4] report\n\n%-8s %8s %8s %8s %9s %7s %11s %11s %10s\n", "method", "AUC",
-              "R@100P", "F1max", "GT loops", "places", "prepare ms", "describe ms", "query ms");
+  const std::string closing_error_svg =
+      closing.contains("error_figure_svg") ? closing["error_figure_svg"].get<std::string>() : "";
+  closing.erase("error_figure_svg");
+  step("report");
+  std::printf("\n%-8s %8s %8s %8s %9s %7s %11s %11s %10s\n", "method", "AUC", "R@100P", "F1max",
+              "GT loops", "places", "prepare ms", "describe ms", "query ms");
   nlohmann::json summary = {
       {"vo", vo.summary}, {"methods", nlohmann::json::array()}, {"closure", closing}};
   report::HtmlPage page;
@@ -206,8 +204,8 @@ void run_all(const RunArgs& a) {
       "Every method is evaluated on the same places (the LiDAR-style methods' keyframes; the "
       "image baselines describe the left image of each) under the same-session protocol. "
       "Prepare = imitating the scan (sc, m2dp, delight) or extracting GIST / ORB (gist, bow); "
-      "describe = the descriptor (sc, m2dp, delight) or the BoW transform; all per keyframe, "
-      "one thread; query = one place against all.");
+      "describe = the descriptor (sc, m2dp, delight) or the BoW transform; all per keyframe "
+      "and measured as one thread's work; query = one place against all.");
   if (vo.summary.contains("metrics")) {
     const nlohmann::json& m = vo.summary["metrics"];
     report::Table t{"Odometry accuracy (KITTI protocol)",
@@ -221,10 +219,18 @@ void run_all(const RunArgs& a) {
                       cell(m["path_length_m"], 0)});
     page.tables.push_back(t);
   }
-  std::vector<report::Series> curves = add_method_results(runs, page, summary);
+  std::vector<report::Series> curves =
+      add_method_results(runs, std::max(1, a.threads), page, summary);
   page.tables.push_back(closing_table(closing));
-  page.figures.push_back(trajectory_figure(vo, gt_by_frame));
+  for (report::Figure& f : trajectory_figures(vo, gt_by_frame)) page.figures.push_back(f);
+  for (const MethodRun& r : runs) {  // the first method with revisits, Scan Context by default
+    if (!r.evaluated || r.pr.n_gt_loops == 0) continue;
+    page.figures.push_back(recognition_figure(r, gt_rows));
+    break;
+  }
   page.figures.push_back({"Loop closing: keyframes before and after, accepted loops", closing_svg});
+  if (!closing_error_svg.empty())
+    page.figures.push_back({"Loop closing: position error along the drive", closing_error_svg});
   if (!curves.empty())
     page.figures.push_back({"Precision-recall", report::pr_curve_svg(curves, "Precision-recall")});
   io::write_file_atomic(a.out + "/summary.json", summary.dump(1) + "\n");

@@ -5,6 +5,8 @@
 
 #include "evaluation_outputs.hpp"
 #include "loopscan/report/pr_plot.hpp"
+#include "loopscan/report/recognition_map.hpp"
+#include "loopscan/report/trajectory_error.hpp"
 #include "options.hpp"
 
 namespace loopscan::cli {
@@ -16,13 +18,55 @@ void write_method_evaluation(const MethodRun& r, const std::string& dir, Mode mo
   write_evaluation(dir, r.keyframe_ids, r.keyframe_ids, r.pr, metrics, r.name);
 }
 
-std::vector<report::Series> add_method_results(const std::vector<MethodRun>& runs,
+// evo-style: the VO coloured by its position error against the ground truth, and that error
+// over the distance travelled. The VO starts at the identity; it is drawn from the first
+// frame's ground-truth pose (KITTI's convention, no alignment).
+std::vector<report::Figure> trajectory_figures(const VoResult& vo,
+                                               const std::vector<Eigen::Vector3d>& gt) {
+  Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();
+  if (!gt.empty()) {
+    anchor.matrix().topRows<3>() = vo.gt_poses[static_cast<std::size_t>(vo.run.frame_ids.front())];
+  }
+  std::vector<Eigen::Vector3d> estimate;
+  for (const Eigen::Isometry3d& T : vo.run.trajectory) estimate.push_back(anchor * T.translation());
+  if (gt.empty()) {
+    report::Series s{"VO", {}, {}, "#d62728"};
+    for (const Eigen::Vector3d& p : estimate) s.x.push_back(p.x()), s.y.push_back(p.z());
+    return {{"Trajectory seen from above (x, z)",
+             report::map_plot_svg({s}, "VO trajectory (no ground truth)")}};
+  }
+  report::TrajectoryFigure t;
+  t.title = "VO trajectory, anchored at the first frame";
+  t.gt = gt;
+  t.estimate = estimate;
+  t.estimate_name = "VO";
+  return {{"Trajectory seen from above, coloured by position error",
+           report::trajectory_error_map_svg(t)},
+          {"Position error over the distance travelled",
+           report::error_over_distance_svg("VO position error (anchored at the first frame)", gt,
+                                           {{"VO", estimate}})}};
+}
+
+report::Figure recognition_figure(const MethodRun& r,
+                                  const std::vector<Eigen::Vector3d>& positions) {
+  report::RecognitionMap map;
+  map.title = r.name + ", same session";
+  for (int id : r.keyframe_ids) map.query_pos.push_back(positions[static_cast<std::size_t>(id)]);
+  map.db_pos = map.query_pos;
+  map.protocol = eval::same_session_protocol();
+  return {"Places recognised by " + r.name + " at 100% precision",
+          report::recognition_map_svg(map, r.pr)};
+}
+
+std::vector<report::Series> add_method_results(const std::vector<MethodRun>& runs, int threads,
                                                report::HtmlPage& page, nlohmann::json& summary) {
   report::Table places_table{"Accuracy (same session: 10 m, |i - j| >= 100)",
                              {"method", "AUC", "recall@100%P", "F1 max", "GT loops", "places"},
                              {}};
-  report::Table times{
-      "Run time per keyframe (ms, one thread)", {"method", "prepare", "describe", "query"}, {}};
+  report::Table times{"Run time per keyframe: ms of one thread's work per item (the run used " +
+                          std::to_string(threads) + (threads == 1 ? " thread)" : " threads)"),
+                      {"method", "prepare", "describe", "query"},
+                      {}};
   report::Table direction{
       "By direction of the revisit (top-1 correct / GT loops; same: headings < 90 deg apart)",
       {"method", "same: top-1", "same: AUC", "opposite: top-1", "opposite: AUC"},

@@ -9,6 +9,7 @@
 #include "loopscan/eval/direction_split.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/plot.hpp"
+#include "vo_outputs.hpp"
 
 namespace loopscan::cli {
 
@@ -28,9 +29,19 @@ struct MethodRun {
 // metrics.json (with by_direction), pr.csv, matches.csv, pr.svg of one method.
 void write_method_evaluation(const MethodRun& r, const std::string& dir, Mode mode);
 
+// evo-style VO figures: the trajectory coloured by its error against `gt` (one position per
+// trajectory entry; empty: the VO alone) and that error over the distance travelled.
+std::vector<report::Figure> trajectory_figures(const VoResult& vo,
+                                               const std::vector<Eigen::Vector3d>& gt);
+
+// The paper's route figure of one evaluated method: places recognised at 100 % precision and
+// the place each matched; positions = ground truth per frame id.
+report::Figure recognition_figure(const MethodRun& r,
+                                  const std::vector<Eigen::Vector3d>& positions);
+
 // Prints the console table and adds every method's rows to the page (accuracy, by direction,
 // run time) and to summary["methods"]; returns the PR curves of the evaluated methods.
-std::vector<report::Series> add_method_results(const std::vector<MethodRun>& runs,
+std::vector<report::Series> add_method_results(const std::vector<MethodRun>& runs, int threads,
                                                report::HtmlPage& page, nlohmann::json& summary);
 
 }  // namespace loopscan::cli

@@ -13,18 +13,10 @@
 #include "loopscan/io/vo_files.hpp"
 #include "loopscan/vo/euroc.hpp"
 #include "options.hpp"
+#include "progress.hpp"
 
 namespace loopscan::cli {
 namespace {
-
-void print_progress(int done, int total, double fps) {
-  constexpr int width = 30;
-  const int filled = total > 0 ? done * width / total : width;
-  std::printf("\r[%s%s] %d / %d frames, %.1f fps", std::string(filled, '#').c_str(),
-              std::string(width - filled, '.').c_str(), done, total, fps);
-  if (done == total) std::printf("\n");
-  std::fflush(stdout);
-}
 
 nlohmann::json number_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nullptr; }
 
@@ -108,13 +100,17 @@ VoResult run_vo_and_write(const VoArgs& a) {
   options.first = a.first;
   options.frames = a.frames;
   options.blank_frames = a.blank_frames;
-  if (!a.quiet) options.progress = print_progress;
+  StepProgress progress("stereo VO", "frames", a.quiet);
+  options.progress = [&progress](int done, int total, double) {
+    progress.update(std::size_t(done), std::size_t(total));
+  };
   if (euroc) {
     options.prepare_pair = [&raw](cv::Mat& left, cv::Mat& right) {
       raw.rectification.apply(left, right);
     };
   }
   result.run = vo::run_stereo_vo(sequence, config, options);
+  progress.finish();
   const vo::SequenceRun& run = result.run;
 
   std::filesystem::create_directories(a.out);

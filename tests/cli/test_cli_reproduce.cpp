@@ -52,6 +52,18 @@ TEST(Cli, DemoTableIsRecomputedFromItsFiles) {
   const fs::path script = d / "demo/report/reproduce.sh";
   ASSERT_TRUE(fs::exists(script));
   EXPECT_NE(demo.output.find("reproduce.sh"), std::string::npos) << demo.output;
+  // Steps are numbered once each, in order, and every part ends with its own time.
+  std::size_t at = 0;
+  for (int k = 1; k <= 8; ++k) {
+    const std::string step = "[" + std::to_string(k) + "/8] ";
+    const std::size_t found = demo.output.find(step);
+    ASSERT_NE(found, std::string::npos) << step << demo.output;
+    EXPECT_GE(found, at) << step;
+    EXPECT_EQ(demo.output.find(step, found + 1), std::string::npos) << step;
+    at = found;
+  }
+  EXPECT_NE(demo.output.find("  describe winter: "), std::string::npos) << demo.output;
+  EXPECT_NE(demo.output.find("  match winter vs summer: "), std::string::npos) << demo.output;
   const auto table = printed_table(demo.output);
   ASSERT_EQ(table.size(), 3u) << demo.output;
 

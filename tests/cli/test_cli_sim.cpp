@@ -36,6 +36,16 @@ TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
                            (d / "sim/gt.txt").string() + " --out " + (d / "eval").string());
   ASSERT_EQ(r3.code, 0) << r3.output;
   EXPECT_FALSE(has_temp_files(d));
+  // Each step ends with a summary line of its own: items and time.
+  const std::size_t keyframes = read_lines(d / "sim/poses_history_file.txt").size();
+  EXPECT_NE(r2.output.find("describe sc: " + std::to_string(keyframes) + " keyframes in "),
+            std::string::npos)
+      << r2.output;
+  const std::size_t places = read_lines(d / "sc/incoming_id_file.txt").size();
+  EXPECT_NE(r3.output.find("evaluate sc: " + std::to_string(2 * places) +  // adaptive: 2 passes
+                           " difference-matrix rows in "),
+            std::string::npos)
+      << r3.output;
   // Metrics by direction of the revisit: the two classes share the loops.
   nlohmann::json metrics;
   std::ifstream(d / "eval/metrics.json") >> metrics;
@@ -118,9 +128,15 @@ TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
   CliResult r =
       run("db build --signatures " + summer + "/sc --gt " + summer + "/gt.txt --out " + db);
   ASSERT_EQ(r.code, 0) << r.output;
+  const std::string n_summer =
+      std::to_string(read_lines(summer + "/sc/incoming_id_file.txt").size());
+  const std::string n_fall = std::to_string(read_lines(fall + "/sc/incoming_id_file.txt").size());
+  EXPECT_NE(r.output.find("db build: session 0: " + n_summer + " places in "), std::string::npos)
+      << r.output;
   r = run("db query --db " + db + " --signatures " + fall + "/sc --gt " + fall +
           "/gt.txt --exact --k 3 --out " + (d / "q").string());
   ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("db query: " + n_fall + " queries in "), std::string::npos) << r.output;
   // The database fuses each query on its own, like the paper: compare with that fusion.
   r = run("evaluate --method sc --fusion fused --signatures " + fall + "/sc --gt " + fall +
           "/gt.txt --against " + summer + "/sc --gt2 " + summer + "/gt.txt --out " +
@@ -225,8 +241,9 @@ TEST(Cli, RenderWritesTheKittiOdometryLayout) {
   ASSERT_EQ(r.code, 0) << r.output;
   for (int cam = 0; cam < 2; ++cam) {
     for (int i = 0; i < 3; ++i) {
-      char name[32];
-      std::snprintf(name, sizeof name, "image_%d/%06d.png", cam, i);
+      const std::string number = std::to_string(i);
+      const std::string name = "image_" + std::to_string(cam) + "/" +
+                               std::string(6 - number.size(), '0') + number + ".png";
       EXPECT_TRUE(fs::exists(d / "seq" / name)) << name;
     }
   }

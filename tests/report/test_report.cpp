@@ -10,84 +10,16 @@
 
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/report.hpp"
+#include "report/svg_checks.hpp"
 
 namespace lr = loopscan::report;
 
+using loopscan::test::count;
+using loopscan::test::line_points;
+using loopscan::test::path_data;
+using loopscan::test::xml_problem;
+
 namespace {
-
-// Tiny XML check: balanced, properly nested tags and only the five predefined entities.
-std::string xml_problem(const std::string& s) {
-  std::vector<std::string> stack;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (s[i] == '&') {
-      bool known = false;
-      for (const char* e : {"&amp;", "&lt;", "&gt;", "&quot;", "&apos;"})
-        known = known || s.compare(i, std::string(e).size(), e) == 0;
-      if (!known) return "bad entity at " + std::to_string(i);
-    }
-    if (s[i] == '>') return "stray '>' at " + std::to_string(i);
-    if (s[i] != '<') continue;
-    if (s.compare(i, 2, "<?") == 0 || s.compare(i, 4, "<!--") == 0) {
-      const std::size_t end = s.find(s[i + 1] == '?' ? "?>" : "-->", i);
-      if (end == std::string::npos) return "unterminated declaration";
-      i = end + 1;
-      continue;
-    }
-    std::size_t j = i + 1;
-    char quote = 0;
-    for (; j < s.size() && (quote || s[j] != '>'); ++j) {
-      if (s[j] == '<' && !quote) return "'<' inside tag at " + std::to_string(j);
-      if (s[j] == '"' || s[j] == '\'') quote = (quote == s[j]) ? 0 : (quote ? quote : s[j]);
-    }
-    if (j >= s.size()) return "unterminated tag";
-    const std::string body = s.substr(i + 1, j - i - 1);
-    const bool closing = body[0] == '/';
-    const std::string name = body.substr(closing, body.find_first_of(" /\n", 1) - closing);
-    if (closing) {
-      if (stack.empty() || stack.back() != name) return "unexpected </" + name + ">";
-      stack.pop_back();
-    } else if (body.back() != '/') {
-      stack.push_back(name);
-    }
-    i = j;
-  }
-  return stack.empty() ? "" : "unclosed <" + stack.back() + ">";
-}
-
-std::size_t count(const std::string& s, const std::string& what) {
-  std::size_t n = 0;
-  for (std::size_t p = s.find(what); p != std::string::npos; p = s.find(what, p + 1)) ++n;
-  return n;
-}
-
-// The d attributes of all <path> elements, in order.
-std::vector<std::string> path_data(const std::string& svg) {
-  std::vector<std::string> out;
-  for (std::size_t p = svg.find("<path d=\""); p != std::string::npos;
-       p = svg.find("<path d=\"", p + 1)) {
-    const std::size_t start = p + 9;
-    out.push_back(svg.substr(start, svg.find('"', start) - start));
-  }
-  return out;
-}
-
-// (x, y) pairs of M/L commands.
-std::vector<std::pair<double, double>> line_points(const std::string& d) {
-  std::vector<std::pair<double, double>> pts;
-  const char* c = d.c_str();
-  while (*c) {
-    if (*c == 'M' || *c == 'L') {
-      char* end = nullptr;
-      const double x = std::strtod(c + 1, &end);
-      const double y = std::strtod(end + 1, &end);  // skip ','
-      pts.emplace_back(x, y);
-      c = end;
-    } else {
-      ++c;
-    }
-  }
-  return pts;
-}
 
 lr::Series diagonal() { return {"diag", {0.0, 0.5, 1.0}, {0.0, 0.5, 1.0}, ""}; }
 
@@ -135,7 +67,13 @@ TEST(ReportPlot, WellFormedWithTicksTitleAndLabels) {
   const std::string svg = lr::line_plot_svg({diagonal()}, opt);
   EXPECT_EQ(xml_problem(svg), "");
   EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
-  EXPECT_NE(svg.find("viewBox=\"0 0 640 480\""), std::string::npos);
+  // The plot area is the size asked for; the canvas grows below it by the legend.
+  const lr::PlotFrame f = lr::make_frame({diagonal()}, opt);
+  EXPECT_EQ(f.width, 640.0);
+  EXPECT_GT(f.height, 480.0);
+  EXPECT_EQ(f.bottom - f.top, lr::make_frame({lr::Series{"", {0, 1}, {0, 1}}}, opt).bottom - f.top);
+  EXPECT_NE(svg.find("viewBox=\"0 0 640 " + lr::format_trimmed(f.height, 2) + "\""),
+            std::string::npos);
   for (const char* tick : {">0<", ">0.2<", ">0.4<", ">0.6<", ">0.8<", ">1<"})
     EXPECT_EQ(count(svg, tick), 2u) << tick;  // once on each axis
   EXPECT_NE(svg.find(">KITTI 00<"), std::string::npos);

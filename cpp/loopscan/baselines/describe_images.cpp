@@ -34,7 +34,7 @@ void per_image(ImageDescriptors& d, std::size_t n) {
 }  // namespace
 
 ImageDescriptors describe_gist(const io::KittiSequence& sequence, const std::vector<int>& frames,
-                               const GistConfig& config, int threads) {
+                               const GistConfig& config, int threads, const ProgressFn& progress) {
   ImageDescriptors d;
   d.gist.resize(frames.size());
   threads = std::max(1, std::min<int>(threads, static_cast<int>(frames.size())));
@@ -47,6 +47,7 @@ ImageDescriptors describe_gist(const io::KittiSequence& sequence, const std::vec
       const auto t0 = Clock::now();
       d.gist[i] = gist.describe(image);
       extract_ms[t] += ms_since(t0);
+      if (t == 0) report_progress(progress, std::min(i + threads, frames.size()), frames.size());
     }
   });
   for (int t = 0; t < threads; ++t) {
@@ -58,7 +59,8 @@ ImageDescriptors describe_gist(const io::KittiSequence& sequence, const std::vec
 }
 
 ImageDescriptors describe_bow(const io::KittiSequence& sequence, const std::vector<int>& frames,
-                              const Vocabulary& vocabulary, const OrbConfig& config) {
+                              const Vocabulary& vocabulary, const OrbConfig& config,
+                              const ProgressFn& progress) {
   ImageDescriptors d;
   for (int f : frames) {
     const cv::Mat image = left_image(sequence, f, d.read_ms);
@@ -69,6 +71,7 @@ ImageDescriptors describe_bow(const io::KittiSequence& sequence, const std::vect
     t0 = Clock::now();
     d.bow.push_back(vocabulary.transform(orb));
     d.transform_ms += ms_since(t0);
+    report_progress(progress, d.bow.size(), frames.size());
   }
   per_image(d, frames.size());
   return d;

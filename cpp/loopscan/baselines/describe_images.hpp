@@ -8,6 +8,7 @@
 #include "loopscan/baselines/gist.hpp"
 #include "loopscan/baselines/orb_features.hpp"
 #include "loopscan/baselines/vocabulary.hpp"
+#include "loopscan/core/progress.hpp"
 #include "loopscan/io/kitti_sequence.hpp"
 
 namespace loopscan::baselines {
@@ -22,11 +23,13 @@ struct ImageDescriptors {
 };
 
 // Frames outside the sequence -> std::invalid_argument naming the frame. GIST runs on `threads`
-// threads (identical descriptors).
+// threads (identical descriptors). `progress`: (images described, all images).
 ImageDescriptors describe_gist(const io::KittiSequence& sequence, const std::vector<int>& frames,
-                               const GistConfig& config = {}, int threads = 1);
+                               const GistConfig& config = {}, int threads = 1,
+                               const ProgressFn& progress = {});
 ImageDescriptors describe_bow(const io::KittiSequence& sequence, const std::vector<int>& frames,
-                              const Vocabulary& vocabulary, const OrbConfig& config = {});
+                              const Vocabulary& vocabulary, const OrbConfig& config = {},
+                              const ProgressFn& progress = {});
 
 // ORB descriptors of every `step`-th left image (vocabulary training).
 std::vector<cv::Mat> orb_of_sequence(const io::KittiSequence& sequence, int step,

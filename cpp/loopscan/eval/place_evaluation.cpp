@@ -23,6 +23,14 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
   std::vector<double> thread_ms(threads, 0.0);
   const bool adaptive = options.fusion == Fusion::Adaptive && options.method != Method::Delight;
   const int mask = options.protocol.mask_width;
+  // Thread 0 reports for all: its item count times the thread count is within `threads` of the
+  // rows done, and the callback never runs concurrently.
+  const std::size_t passes = adaptive ? 2 : 1, rows = passes * queries.size();
+  auto report = [&](int t, std::size_t pass, std::size_t i) {
+    if (t == 0)
+      report_progress(options.progress,
+                      pass * queries.size() + std::min(i + threads, queries.size()), rows);
+  };
   out.weights.structure = options.structure_weight;
   if (adaptive) {  // pass one: the statistics of the whole difference matrix
     std::vector<FusionStatistics> stats(threads);
@@ -33,6 +41,7 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
         matcher->distances(queries[i], components);
         stats[t].add_row(components.row(0), components.row(1), static_cast<int>(i), mask);
         thread_ms[t] += ms_since(t0);
+        report(t, 0, i);
       }
     });
     for (int t = 1; t < threads; ++t) stats[0].merge(stats[t]);
@@ -50,6 +59,7 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
       // The mask applies after fusion: the row statistics include the excluded columns.
       out.matches[i] =
           best_match(row.data(), static_cast<int>(row.size()), static_cast<int>(i), mask);
+      report(t, passes - 1, i);
     }
   };
   run_on_threads(threads, work);

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "loopscan/core/matching/adaptive_fusion.hpp"
+#include "loopscan/core/progress.hpp"
 #include "loopscan/core/matching/fusion.hpp"
 #include "loopscan/core/matching/place_matcher.hpp"
 #include "loopscan/eval/precision_recall.hpp"
@@ -19,6 +20,9 @@ struct PlaceEvaluationOptions {
   Protocol protocol = same_session_protocol();
   bool reference_quirks = false;
   int threads = 1;  // queries split over threads; results identical
+  // (rows computed, rows to compute), from the calling thread; adaptive fusion counts its two
+  // passes over the queries.
+  ProgressFn progress;
 };
 
 struct PlaceEvaluation {

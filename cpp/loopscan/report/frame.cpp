@@ -14,6 +14,8 @@ constexpr double kMarginRight = 20.0;
 constexpr double kMarginTop = 36.0;
 constexpr double kMarginBottom = 52.0;
 constexpr double kPadFraction = 0.05;
+constexpr double kLegendRow = 18.0;
+constexpr double kColorbarWidth = 90.0;
 
 struct Range {
   double lo, hi;
@@ -68,18 +70,30 @@ Ticks nice_ticks(double lo, double hi, int target) {
 
 PlotFrame make_frame(const std::vector<Series>& series, const PlotOptions& options) {
   PlotFrame f;
+  bool value_colored = false;
+  for (const Series& s : series) {
+    f.legend_rows += s.name.empty() ? 0 : 1;
+    value_colored = value_colored || !s.value.empty();
+  }
+  const double legend_h = f.legend_rows > 0 ? 10.0 + kLegendRow * f.legend_rows : 0.0;
+  const double colorbar_w = value_colored ? kColorbarWidth : 0.0;
   // A canvas too small for the margins would invert the plot area.
-  f.width = std::max(options.width, 160);
-  f.height = std::max(options.height, 120);
+  f.width = std::max(options.width, 160) + colorbar_w;
+  f.height = std::max(options.height, 120) + legend_h;
   f.left = kMarginLeft;
   f.top = kMarginTop;
-  f.right = f.width - kMarginRight;
-  f.bottom = f.height - kMarginBottom;
+  f.right = f.width - kMarginRight - colorbar_w;
+  f.bottom = f.height - kMarginBottom - legend_h;
 
   Range x{options.x_min, options.x_max};
   Range y{options.y_min, options.y_max};
-  if (!usable(x.lo, x.hi)) x = data_range(series, true);
-  if (!usable(y.lo, y.hi)) y = data_range(series, false);
+  const bool fixed_x = usable(x.lo, x.hi), fixed_y = usable(y.lo, y.hi);
+  if (!fixed_x) x = data_range(series, true);
+  if (!fixed_y) y = data_range(series, false);
+  const Range tick_x = x, tick_y = y;
+  const double pad = std::max(0.0, options.pad);
+  if (fixed_x) x = {x.lo - pad * (x.hi - x.lo), x.hi + pad * (x.hi - x.lo)};
+  if (fixed_y) y = {y.lo - pad * (y.hi - y.lo), y.hi + pad * (y.hi - y.lo)};
 
   if (options.equal_aspect) {
     // Widen the axis with the larger scale so both use the smaller pixels-per-unit.
@@ -95,6 +109,12 @@ PlotFrame make_frame(const std::vector<Series>& series, const PlotOptions& optio
   f.x_max = x.hi;
   f.y_min = y.lo;
   f.y_max = y.hi;
+  // Padding leaves the ticks on the requested range; equal aspect ticks the widened one.
+  const bool keep_ticks = pad > 0 && !options.equal_aspect;
+  f.tick_x_min = keep_ticks && fixed_x ? tick_x.lo : x.lo;
+  f.tick_x_max = keep_ticks && fixed_x ? tick_x.hi : x.hi;
+  f.tick_y_min = keep_ticks && fixed_y ? tick_y.lo : y.lo;
+  f.tick_y_max = keep_ticks && fixed_y ? tick_y.hi : y.hi;
   return f;
 }
 

@@ -20,11 +20,15 @@ struct PlotFrame {
   double width = 0, height = 0;                       // SVG canvas
   double left = 0, top = 0, right = 0, bottom = 0;    // plot area in pixels (top < bottom)
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;  // final data ranges
+  double tick_x_min = 0, tick_x_max = 1, tick_y_min = 0, tick_y_max = 1;  // ranges given ticks
+  int legend_rows = 0;  // named series, listed below the plot
   double to_px_x(double x) const { return left + (x - x_min) / (x_max - x_min) * (right - left); }
   double to_px_y(double y) const { return bottom - (y - y_min) / (y_max - y_min) * (bottom - top); }
 };
 
-// Applies auto ranges (data extent + 5 % padding) and equal aspect to the options' ranges.
+// Applies auto ranges (data extent + 5 % padding), PlotOptions::pad and equal aspect to the
+// options' ranges. The canvas grows by the legend's rows and a colour bar's width, so the plot
+// area keeps the size the options ask for.
 PlotFrame make_frame(const std::vector<Series>& series, const PlotOptions& options);
 
 }  // namespace loopscan::report

@@ -1,8 +1,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
+#include "loopscan/report/colormap.hpp"
 #include "loopscan/report/frame.hpp"
 #include "loopscan/report/plot.hpp"
 #include "loopscan/report/svg_text.hpp"
@@ -18,6 +20,21 @@ constexpr std::array<const char*, 10> kPalette = {"#1f77b4", "#ff7f0e", "#2ca02c
 constexpr double kMarkerRadius = 2.5;
 
 std::string px(double v) { return format_trimmed(v, 2); }
+
+// Range of the finite per-point values of all value-coloured series ([0, 1] without any).
+void color_range(const std::vector<Series>& series, double& lo, double& hi) {
+  lo = std::numeric_limits<double>::infinity();
+  hi = -lo;
+  for (const Series& s : series) {
+    for (const double v : s.value) {
+      if (!std::isfinite(v)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  if (!(lo <= hi)) lo = 0, hi = 1;
+  if (hi == lo) hi = lo + 1;
+}
 
 std::string series_color(const Series& s, std::size_t index) {
   return s.color.empty() ? kPalette[index % kPalette.size()] : s.color;
@@ -56,9 +73,11 @@ bool clip_segment(const PlotFrame& f, double& x0, double& y0, double& x1, double
   return true;
 }
 
-// Path data of a polyline; non-finite points split it, parts outside the frame are clipped.
-std::string line_path(const Series& s, const PlotFrame& f) {
-  std::string d;
+// Calls emit(i, x0, y0, x1, y1, joined) for each drawable segment (points i-1, i) in pixels,
+// clipped to the frame; `joined`: it starts where the previous emitted segment ended.
+// Non-finite points break the line.
+template <typename Emit>
+void for_each_segment(const Series& s, const PlotFrame& f, Emit&& emit) {
   const std::size_t n = std::min(s.x.size(), s.y.size());
   bool pen_at_prev = false;  // the pen sits at the (unclipped) previous point
   for (std::size_t i = 1; i < n; ++i) {
@@ -77,11 +96,47 @@ std::string line_path(const Series& s, const PlotFrame& f) {
     }
     const bool start_clipped =
         !pen_at_prev || x0 != f.to_px_x(s.x[i - 1]) || y0 != f.to_px_y(s.y[i - 1]);
-    if (start_clipped) d += (d.empty() ? "M" : " M") + px(x0) + "," + px(y0);
-    d += " L" + px(x1) + "," + px(y1);
+    emit(i, x0, y0, x1, y1, !start_clipped);
     pen_at_prev = (x1 == end_x && y1 == end_y);
   }
+}
+
+// Path data of a polyline.
+std::string line_path(const Series& s, const PlotFrame& f) {
+  std::string d;
+  for_each_segment(s, f, [&](std::size_t, double x0, double y0, double x1, double y1, bool joined) {
+    if (!joined) d += (d.empty() ? "M" : " M") + px(x0) + "," + px(y0);
+    d += " L" + px(x1) + "," + px(y1);
+  });
   return d;
+}
+
+// A value-coloured polyline as one path per colour step (a few dozen elements, not one per
+// segment); each segment takes the colour of its end points' mean value.
+std::string value_paths(const Series& s, const PlotFrame& f, double lo, double hi) {
+  constexpr int kSteps = 24;
+  std::array<std::string, kSteps> d;
+  std::array<bool, kSteps> pen_here{};  // the step's path ends where the next segment starts
+  int last_step = -1;
+  for_each_segment(s, f,
+                   [&](std::size_t i, double x0, double y0, double x1, double y1, bool joined) {
+                     const double v = i < s.value.size() ? 0.5 * (s.value[i - 1] + s.value[i]) : lo;
+                     const double t = hi > lo ? (v - lo) / (hi - lo) : 0.0;
+                     const int k = std::clamp(static_cast<int>(t * kSteps), 0, kSteps - 1);
+                     if (!(joined && last_step == k && pen_here[k]))
+                       d[k] += (d[k].empty() ? "M" : " M") + px(x0) + "," + px(y0);
+                     d[k] += " L" + px(x1) + "," + px(y1);
+                     pen_here.fill(false);
+                     pen_here[k] = true;
+                     last_step = k;
+                   });
+  std::string out;
+  for (int k = 0; k < kSteps; ++k) {
+    if (d[k].empty()) continue;
+    out += "<path d=\"" + d[k] + "\" fill=\"none\" stroke=\"" + scale_color((k + 0.5) / kSteps) +
+           "\" stroke-width=\"" + px(s.width) + "\" stroke-linejoin=\"round\"/>\n";
+  }
+  return out;
 }
 
 // Path data of one circle per point inside the frame (two arcs each).
@@ -100,6 +155,10 @@ std::string marker_path(const Series& s, const PlotFrame& f) {
   return d;
 }
 
+std::string dash_attribute(const Series& s) {
+  return s.dash.empty() ? "" : " stroke-dasharray=\"" + xml_escape(s.dash) + "\"";
+}
+
 std::string text_element(double x, double y, const std::string& anchor, const std::string& text,
                          const std::string& extra = "") {
   return "<text x=\"" + px(x) + "\" y=\"" + px(y) + "\" text-anchor=\"" + anchor + "\"" + extra +
@@ -112,8 +171,8 @@ std::string line_element(double x0, double y0, double x1, double y1) {
 }
 
 std::string axes(const PlotFrame& f) {
-  const Ticks xt = nice_ticks(f.x_min, f.x_max, tick_target(f.right - f.left));
-  const Ticks yt = nice_ticks(f.y_min, f.y_max, tick_target(f.bottom - f.top));
+  const Ticks xt = nice_ticks(f.tick_x_min, f.tick_x_max, tick_target(f.right - f.left));
+  const Ticks yt = nice_ticks(f.tick_y_min, f.tick_y_max, tick_target(f.bottom - f.top));
   std::string grid = "<g class=\"grid\" stroke=\"#e0e0e0\" stroke-width=\"1\">\n";
   std::string marks = "<g class=\"ticks\" stroke=\"black\" stroke-width=\"1\">\n";
   std::string labels = "<g class=\"tick-labels\" fill=\"black\">\n";
@@ -132,7 +191,7 @@ std::string axes(const PlotFrame& f) {
   return grid + "</g>\n" + marks + "</g>\n" + labels + "</g>\n";
 }
 
-// Legend in the lower-left corner, where PR curves rarely go.
+// Legend below the x-axis label: outside the data, whatever the data.
 std::string legend(const std::vector<Series>& series, const PlotFrame& f, bool points) {
   std::size_t rows = 0;
   std::size_t max_chars = 0;
@@ -145,8 +204,8 @@ std::string legend(const std::vector<Series>& series, const PlotFrame& f, bool p
   const double row_h = 18.0;
   const double w = 40.0 + 7.0 * static_cast<double>(max_chars);
   const double h = 8.0 + row_h * static_cast<double>(rows);
-  const double x = f.left + 8.0;
-  double y = f.bottom - 8.0 - h;
+  const double x = f.left;
+  double y = f.bottom + 50.0;
   std::string out = "<g class=\"legend\">\n<rect x=\"" + px(x) + "\" y=\"" + px(y) + "\" width=\"" +
                     px(w) + "\" height=\"" + px(h) +
                     "\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#999999\"/>\n";
@@ -154,13 +213,13 @@ std::string legend(const std::vector<Series>& series, const PlotFrame& f, bool p
   for (std::size_t i = 0; i < series.size(); ++i) {
     const Series& s = series[i];
     if (s.name.empty()) continue;
-    const std::string color = xml_escape(series_color(s, i));
+    const std::string color = s.value.empty() ? xml_escape(series_color(s, i)) : scale_color(0.5);
     if (points) {
       out += "<circle cx=\"" + px(x + 16) + "\" cy=\"" + px(y) + "\" r=\"3\" fill=\"" + color +
              "\"/>\n";
     } else {
       out += "<line x1=\"" + px(x + 6) + "\" y1=\"" + px(y) + "\" x2=\"" + px(x + 26) + "\" y2=\"" +
-             px(y) + "\" stroke=\"" + color + "\" stroke-width=\"2\"/>\n";
+             px(y) + "\" stroke=\"" + color + "\" stroke-width=\"2\"" + dash_attribute(s) + "/>\n";
     }
     out += text_element(x + 32, y, "start", s.name, " dy=\"0.32em\"");
     y += row_h;
@@ -181,13 +240,20 @@ std::string line_plot_svg(const std::vector<Series>& series, const PlotOptions& 
   svg += axes(f);
 
   svg += "<g class=\"series\">\n";
+  double lo = options.color_min, hi = options.color_max;
+  if (!(hi > lo)) color_range(series, lo, hi);
   for (std::size_t i = 0; i < series.size(); ++i) {
-    const std::string color = xml_escape(series_color(series[i], i));
-    const std::string style = options.points
-                                  ? "fill=\"" + color + "\" stroke=\"none\""
-                                  : "fill=\"none\" stroke=\"" + color +
-                                        "\" stroke-width=\"1.5\" stroke-linejoin=\"round\"";
-    const std::string d = options.points ? marker_path(series[i], f) : line_path(series[i], f);
+    const Series& s = series[i];
+    if (!s.value.empty() && !options.points) {
+      svg += value_paths(s, f, lo, hi);
+      continue;
+    }
+    const std::string color = xml_escape(series_color(s, i));
+    const std::string style =
+        options.points ? "fill=\"" + color + "\" stroke=\"none\""
+                       : "fill=\"none\" stroke=\"" + color + "\" stroke-width=\"" + px(s.width) +
+                             "\" stroke-linejoin=\"round\"" + dash_attribute(s);
+    const std::string d = options.points ? marker_path(s, f) : line_path(s, f);
     svg += "<path d=\"" + d + "\" " + style + "/>\n";
   }
   svg += "</g>\n";
@@ -202,6 +268,9 @@ std::string line_plot_svg(const std::vector<Series>& series, const PlotOptions& 
   svg += text_element(18, mid_y, "middle", options.y_label,
                       " transform=\"rotate(-90 18 " + px(mid_y) + ")\"");
   svg += legend(series, f, options.points);
+  if (f.width - f.right > 60.0) {  // make_frame left room for a colour bar
+    svg += colorbar_svg(f.right + 16, f.top, 14, f.bottom - f.top, lo, hi, options.color_label);
+  }
   svg += "</svg>\n";
   return svg;
 }

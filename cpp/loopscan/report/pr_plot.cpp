@@ -43,6 +43,7 @@ std::string pr_metrics_text(const Series& curve) {
 std::string pr_curve_svg(const std::vector<Series>& curves, const std::string& title) {
   PlotOptions options;  // defaults: Recall / Precision on [0, 1]²
   options.title = title;
+  options.pad = 0.02;  // a curve at precision 1 or recall 0 stays visible off the frame
   std::vector<Series> shown = curves;
   if (curves.size() == 1) {
     options.title = (title.empty() ? "" : title + kDash) + pr_metrics_text(curves.front());

@@ -107,6 +107,7 @@ VoOutput simulate_vo(const Trajectory& gt, const std::vector<int>& keyframe_ids,
       ++accepted;
     }
     rays_total += rays;
+    report_progress(c.progress, k + 1, keyframe_ids.size());
   }
   if (!keyframe_ids.empty()) {
     out.mean_points_per_keyframe = double(out.points.size()) / keyframe_ids.size();

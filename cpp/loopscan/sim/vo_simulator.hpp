@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "loopscan/core/progress.hpp"
 #include "loopscan/core/types.hpp"
 #include "loopscan/sim/camera.hpp"
 #include "loopscan/sim/trajectory.hpp"
@@ -29,6 +30,7 @@ struct VoSimConfig {
   double drift_rotation_deg_per_m = 0.01;
   std::vector<int> reset_keyframe_ids;  // the VO restarts here: new VO world frame
   unsigned seed = 1;
+  ProgressFn progress;  // (keyframes simulated, all keyframes); results do not depend on it
 };
 
 struct VoOutput {

@@ -92,6 +92,7 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
     imitator.push(keyframe, points.data() + first, next_point - first, reset, filter, ready);
     out.imitate_ms += ms_since(t0);
     take();
+    report_progress(options.progress, std::size_t(&keyframe - poses.data()) + 1, poses.size());
   }
   const auto t0 = std::chrono::steady_clock::now();
   imitator.finish(filter, ready);

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/progress.hpp"
 #include "loopscan/core/scan/scan_imitator.hpp"
 
 namespace loopscan {
@@ -16,6 +17,7 @@ struct SequenceOptions {
   std::vector<int> reset_ids;  // keyframes where the VO restarted (default mode only)
   int threads = 1;  // imitation is sequential; descriptions of a batch of scans run in parallel
   static constexpr int kMaxThreads = 1024;
+  ProgressFn progress;  // (keyframes walked, all keyframes); results do not depend on it
   // Consistent options for a mode and range (the paper: 45 m).
   static SequenceOptions make(Method method, Mode mode, double range_m = 45.0);
 };
