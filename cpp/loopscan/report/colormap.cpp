@@ -16,8 +16,6 @@ namespace {
 constexpr std::array<std::array<double, 3>, 5> kAnchors = {
     {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}}};
 
-std::string px(double v) { return format_trimmed(v, 2); }
-
 }  // namespace
 
 std::string scale_color(double t) {
@@ -40,23 +38,24 @@ std::string colorbar_svg(double x, double y, double w, double h, double lo, doub
   std::string out = "<g class=\"colorbar\">\n";
   for (int k = 0; k < kSteps; ++k) {  // top step = hi
     const double t = 1.0 - (k + 0.5) / kSteps;
-    out += "<rect x=\"" + px(x) + "\" y=\"" + px(y + h * k / kSteps) + "\" width=\"" + px(w) +
-           "\" height=\"" + px(h / kSteps + 0.5) + "\" fill=\"" + scale_color(t) + "\"/>\n";
+    out += "<rect x=\"" + svg_px(x) + "\" y=\"" + svg_px(y + h * k / kSteps) + "\" width=\"" +
+           svg_px(w) + "\" height=\"" + svg_px(h / kSteps + 0.5) + "\" fill=\"" + scale_color(t) +
+           "\"/>\n";
   }
-  out += "<rect x=\"" + px(x) + "\" y=\"" + px(y) + "\" width=\"" + px(w) + "\" height=\"" + px(h) +
-         "\" fill=\"none\" stroke=\"black\"/>\n";
+  out += "<rect x=\"" + svg_px(x) + "\" y=\"" + svg_px(y) + "\" width=\"" + svg_px(w) +
+         "\" height=\"" + svg_px(h) + "\" fill=\"none\" stroke=\"black\"/>\n";
   const Ticks ticks = nice_ticks(lo, hi, 4);
   for (const double v : ticks.values) {
     const double ty = y + h - (v - lo) / (hi - lo) * h;
-    out += "<line x1=\"" + px(x + w) + "\" y1=\"" + px(ty) + "\" x2=\"" + px(x + w + 4) +
-           "\" y2=\"" + px(ty) + "\" stroke=\"black\"/>\n";
-    out += "<text x=\"" + px(x + w + 7) + "\" y=\"" + px(ty) + "\" dy=\"0.32em\">" +
+    out += "<line x1=\"" + svg_px(x + w) + "\" y1=\"" + svg_px(ty) + "\" x2=\"" +
+           svg_px(x + w + 4) + "\" y2=\"" + svg_px(ty) + "\" stroke=\"black\"/>\n";
+    out += "<text x=\"" + svg_px(x + w + 7) + "\" y=\"" + svg_px(ty) + "\" dy=\"0.32em\">" +
            format_trimmed(v, ticks.decimals) + "</text>\n";
   }
   const double lx = x + w + 48, ly = y + h / 2;
-  out += "<text x=\"" + px(lx) + "\" y=\"" + px(ly) +
-         "\" text-anchor=\"middle\" transform=\"rotate(90 " + px(lx) + " " + px(ly) + ")\">" +
-         xml_escape(label) + "</text>\n";
+  out += "<text x=\"" + svg_px(lx) + "\" y=\"" + svg_px(ly) +
+         "\" text-anchor=\"middle\" transform=\"rotate(90 " + svg_px(lx) + " " + svg_px(ly) +
+         ")\">" + xml_escape(label) + "</text>\n";
   return out + "</g>\n";
 }
 

@@ -9,23 +9,6 @@
 
 namespace loopscan::report {
 
-namespace {
-
-std::string px(double v) { return format_trimmed(v, 2); }
-
-std::string text(double x, double y, const std::string& anchor, const std::string& s,
-                 const std::string& extra = "") {
-  return "<text x=\"" + px(x) + "\" y=\"" + px(y) + "\" text-anchor=\"" + anchor + "\"" + extra +
-         ">" + xml_escape(s) + "</text>\n";
-}
-
-std::string tick_line(double x0, double y0, double x1, double y1) {
-  return "<line x1=\"" + px(x0) + "\" y1=\"" + px(y0) + "\" x2=\"" + px(x1) + "\" y2=\"" + px(y1) +
-         "\" stroke=\"black\"/>\n";
-}
-
-}  // namespace
-
 std::string heatmap_svg(const Eigen::MatrixXd& values, const HeatmapOptions& o) {
   const int rows = static_cast<int>(values.rows()), cols = static_cast<int>(values.cols());
   const double left = 64, top = 40, w = cols * o.cell_px, h = rows * o.cell_px;
@@ -36,22 +19,23 @@ std::string heatmap_svg(const Eigen::MatrixXd& values, const HeatmapOptions& o) 
     hi = values.size() > 0 ? values.maxCoeff() : 1.0;
     if (!(hi > lo)) hi = lo + 1.0;  // a constant image still gets a usable bar
   }
-  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + px(width) +
-                    "\" height=\"" + px(height) + "\" viewBox=\"0 0 " + px(width) + " " +
-                    px(height) + "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + svg_px(width) +
+                    "\" height=\"" + svg_px(height) + "\" viewBox=\"0 0 " + svg_px(width) + " " +
+                    svg_px(height) + "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  svg += text(left + w / 2, 22, "middle", o.title, " font-size=\"14\"");
+  svg += svg_text(left + w / 2, 22, "middle", o.title, " font-size=\"14\"");
   svg += "<g class=\"cells\" shape-rendering=\"crispEdges\">\n";
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
-      svg += "<rect x=\"" + px(left + c * o.cell_px) + "\" y=\"" + px(top + r * o.cell_px) +
+      svg += "<rect x=\"" + svg_px(left + c * o.cell_px) + "\" y=\"" + svg_px(top + r * o.cell_px) +
              "\" width=\"" + std::to_string(o.cell_px) + "\" height=\"" +
              std::to_string(o.cell_px) + "\" fill=\"" +
              scale_color((values(r, c) - lo) / (hi - lo)) + "\"/>\n";
     }
   }
-  svg += "</g>\n<rect class=\"frame\" x=\"" + px(left) + "\" y=\"" + px(top) + "\" width=\"" +
-         px(w) + "\" height=\"" + px(h) + "\" fill=\"none\" stroke=\"black\"/>\n";
+  svg += "</g>\n<rect class=\"frame\" x=\"" + svg_px(left) + "\" y=\"" + svg_px(top) +
+         "\" width=\"" + svg_px(w) + "\" height=\"" + svg_px(h) +
+         "\" fill=\"none\" stroke=\"black\"/>\n";
   // Ticks in axis units: value v sits at the fraction (v - first) / (last - first).
   const auto ticks_along = [&](double first, double last, double pixels) {
     return nice_ticks(std::min(first, last), std::max(first, last),
@@ -60,18 +44,18 @@ std::string heatmap_svg(const Eigen::MatrixXd& values, const HeatmapOptions& o) 
   const Ticks xt = ticks_along(o.x_first, o.x_last, w);
   for (const double v : xt.values) {
     const double x = left + (v - o.x_first) / (o.x_last - o.x_first) * w;
-    svg += tick_line(x, top + h, x, top + h + 5);
-    svg += text(x, top + h + 18, "middle", format_trimmed(v, xt.decimals));
+    svg += svg_line(x, top + h, x, top + h + 5, " stroke=\"black\"");
+    svg += svg_text(x, top + h + 18, "middle", format_trimmed(v, xt.decimals));
   }
   const Ticks yt = ticks_along(o.y_first, o.y_last, h);
   for (const double v : yt.values) {
     const double y = top + (v - o.y_first) / (o.y_last - o.y_first) * h;
-    svg += tick_line(left - 5, y, left, y);
-    svg += text(left - 8, y, "end", format_trimmed(v, yt.decimals), " dy=\"0.32em\"");
+    svg += svg_line(left - 5, y, left, y, " stroke=\"black\"");
+    svg += svg_text(left - 8, y, "end", format_trimmed(v, yt.decimals), " dy=\"0.32em\"");
   }
-  svg += text(left + w / 2, top + h + 40, "middle", o.x_label);
-  svg += text(18, top + h / 2, "middle", o.y_label,
-              " transform=\"rotate(-90 18 " + px(top + h / 2) + ")\"");
+  svg += svg_text(left + w / 2, top + h + 40, "middle", o.x_label);
+  svg += svg_text(18, top + h / 2, "middle", o.y_label,
+                  " transform=\"rotate(-90 18 " + svg_px(top + h / 2) + ")\"");
   svg += colorbar_svg(left + w + 16, top, 14, h, lo, hi, o.colorbar_label);
   return svg + "</svg>\n";
 }

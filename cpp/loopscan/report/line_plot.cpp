@@ -19,8 +19,6 @@ constexpr std::array<const char*, 10> kPalette = {"#1f77b4", "#ff7f0e", "#2ca02c
                                                   "#bcbd22", "#17becf"};
 constexpr double kMarkerRadius = 2.5;
 
-std::string px(double v) { return format_trimmed(v, 2); }
-
 // Range of the finite per-point values of all value-coloured series ([0, 1] without any).
 void color_range(const std::vector<Series>& series, double& lo, double& hi) {
   lo = std::numeric_limits<double>::infinity();
@@ -105,8 +103,8 @@ void for_each_segment(const Series& s, const PlotFrame& f, Emit&& emit) {
 std::string line_path(const Series& s, const PlotFrame& f) {
   std::string d;
   for_each_segment(s, f, [&](std::size_t, double x0, double y0, double x1, double y1, bool joined) {
-    if (!joined) d += (d.empty() ? "M" : " M") + px(x0) + "," + px(y0);
-    d += " L" + px(x1) + "," + px(y1);
+    if (!joined) d += (d.empty() ? "M" : " M") + svg_px(x0) + "," + svg_px(y0);
+    d += " L" + svg_px(x1) + "," + svg_px(y1);
   });
   return d;
 }
@@ -124,8 +122,8 @@ std::string value_paths(const Series& s, const PlotFrame& f, double lo, double h
                      const double t = hi > lo ? (v - lo) / (hi - lo) : 0.0;
                      const int k = std::clamp(static_cast<int>(t * kSteps), 0, kSteps - 1);
                      if (!(joined && last_step == k && pen_here[k]))
-                       d[k] += (d[k].empty() ? "M" : " M") + px(x0) + "," + px(y0);
-                     d[k] += " L" + px(x1) + "," + px(y1);
+                       d[k] += (d[k].empty() ? "M" : " M") + svg_px(x0) + "," + svg_px(y0);
+                     d[k] += " L" + svg_px(x1) + "," + svg_px(y1);
                      pen_here.fill(false);
                      pen_here[k] = true;
                      last_step = k;
@@ -134,7 +132,7 @@ std::string value_paths(const Series& s, const PlotFrame& f, double lo, double h
   for (int k = 0; k < kSteps; ++k) {
     if (d[k].empty()) continue;
     out += "<path d=\"" + d[k] + "\" fill=\"none\" stroke=\"" + scale_color((k + 0.5) / kSteps) +
-           "\" stroke-width=\"" + px(s.width) + "\" stroke-linejoin=\"round\"/>\n";
+           "\" stroke-width=\"" + svg_px(s.width) + "\" stroke-linejoin=\"round\"/>\n";
   }
   return out;
 }
@@ -143,31 +141,21 @@ std::string value_paths(const Series& s, const PlotFrame& f, double lo, double h
 std::string marker_path(const Series& s, const PlotFrame& f) {
   std::string d;
   const std::size_t n = std::min(s.x.size(), s.y.size());
-  const std::string r = px(kMarkerRadius);
+  const std::string r = svg_px(kMarkerRadius);
   for (std::size_t i = 0; i < n; ++i) {
     const double x = f.to_px_x(s.x[i]);
     const double y = f.to_px_y(s.y[i]);
     if (!(x >= f.left && x <= f.right && y >= f.top && y <= f.bottom)) continue;  // also NaN
     if (!d.empty()) d += ' ';
-    d += "M" + px(x - kMarkerRadius) + "," + px(y) + " a" + r + "," + r + " 0 1,0 " +
-         px(2 * kMarkerRadius) + ",0 a" + r + "," + r + " 0 1,0 " + px(-2 * kMarkerRadius) + ",0";
+    d += "M" + svg_px(x - kMarkerRadius) + "," + svg_px(y) + " a" + r + "," + r + " 0 1,0 " +
+         svg_px(2 * kMarkerRadius) + ",0 a" + r + "," + r + " 0 1,0 " + svg_px(-2 * kMarkerRadius) +
+         ",0";
   }
   return d;
 }
 
 std::string dash_attribute(const Series& s) {
   return s.dash.empty() ? "" : " stroke-dasharray=\"" + xml_escape(s.dash) + "\"";
-}
-
-std::string text_element(double x, double y, const std::string& anchor, const std::string& text,
-                         const std::string& extra = "") {
-  return "<text x=\"" + px(x) + "\" y=\"" + px(y) + "\" text-anchor=\"" + anchor + "\"" + extra +
-         ">" + xml_escape(text) + "</text>\n";
-}
-
-std::string line_element(double x0, double y0, double x1, double y1) {
-  return "<line x1=\"" + px(x0) + "\" y1=\"" + px(y0) + "\" x2=\"" + px(x1) + "\" y2=\"" + px(y1) +
-         "\"/>\n";
 }
 
 std::string axes(const PlotFrame& f) {
@@ -178,15 +166,15 @@ std::string axes(const PlotFrame& f) {
   std::string labels = "<g class=\"tick-labels\" fill=\"black\">\n";
   for (const double v : xt.values) {
     const double x = std::clamp(f.to_px_x(v), f.left, f.right);
-    grid += line_element(x, f.top, x, f.bottom);
-    marks += line_element(x, f.bottom, x, f.bottom + 5);
-    labels += text_element(x, f.bottom + 18, "middle", format_trimmed(v, xt.decimals));
+    grid += svg_line(x, f.top, x, f.bottom);
+    marks += svg_line(x, f.bottom, x, f.bottom + 5);
+    labels += svg_text(x, f.bottom + 18, "middle", format_trimmed(v, xt.decimals));
   }
   for (const double v : yt.values) {
     const double y = std::clamp(f.to_px_y(v), f.top, f.bottom);
-    grid += line_element(f.left, y, f.right, y);
-    marks += line_element(f.left - 5, y, f.left, y);
-    labels += text_element(f.left - 8, y, "end", format_trimmed(v, yt.decimals), " dy=\"0.32em\"");
+    grid += svg_line(f.left, y, f.right, y);
+    marks += svg_line(f.left - 5, y, f.left, y);
+    labels += svg_text(f.left - 8, y, "end", format_trimmed(v, yt.decimals), " dy=\"0.32em\"");
   }
   return grid + "</g>\n" + marks + "</g>\n" + labels + "</g>\n";
 }
@@ -206,8 +194,8 @@ std::string legend(const std::vector<Series>& series, const PlotFrame& f, bool p
   const double h = 8.0 + row_h * static_cast<double>(rows);
   const double x = f.left;
   double y = f.bottom + 50.0;
-  std::string out = "<g class=\"legend\">\n<rect x=\"" + px(x) + "\" y=\"" + px(y) + "\" width=\"" +
-                    px(w) + "\" height=\"" + px(h) +
+  std::string out = "<g class=\"legend\">\n<rect x=\"" + svg_px(x) + "\" y=\"" + svg_px(y) +
+                    "\" width=\"" + svg_px(w) + "\" height=\"" + svg_px(h) +
                     "\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#999999\"/>\n";
   y += 4.0 + row_h / 2.0;
   for (std::size_t i = 0; i < series.size(); ++i) {
@@ -215,13 +203,14 @@ std::string legend(const std::vector<Series>& series, const PlotFrame& f, bool p
     if (s.name.empty()) continue;
     const std::string color = s.value.empty() ? xml_escape(series_color(s, i)) : scale_color(0.5);
     if (points) {
-      out += "<circle cx=\"" + px(x + 16) + "\" cy=\"" + px(y) + "\" r=\"3\" fill=\"" + color +
-             "\"/>\n";
+      out += "<circle cx=\"" + svg_px(x + 16) + "\" cy=\"" + svg_px(y) + "\" r=\"3\" fill=\"" +
+             color + "\"/>\n";
     } else {
-      out += "<line x1=\"" + px(x + 6) + "\" y1=\"" + px(y) + "\" x2=\"" + px(x + 26) + "\" y2=\"" +
-             px(y) + "\" stroke=\"" + color + "\" stroke-width=\"2\"" + dash_attribute(s) + "/>\n";
+      out += "<line x1=\"" + svg_px(x + 6) + "\" y1=\"" + svg_px(y) + "\" x2=\"" + svg_px(x + 26) +
+             "\" y2=\"" + svg_px(y) + "\" stroke=\"" + color + "\" stroke-width=\"2\"" +
+             dash_attribute(s) + "/>\n";
     }
-    out += text_element(x + 32, y, "start", s.name, " dy=\"0.32em\"");
+    out += svg_text(x + 32, y, "start", s.name, " dy=\"0.32em\"");
     y += row_h;
   }
   return out + "</g>\n";
@@ -231,8 +220,8 @@ std::string legend(const std::vector<Series>& series, const PlotFrame& f, bool p
 
 std::string line_plot_svg(const std::vector<Series>& series, const PlotOptions& options) {
   const PlotFrame f = make_frame(series, options);
-  const std::string w = px(f.width);
-  const std::string h = px(f.height);
+  const std::string w = svg_px(f.width);
+  const std::string h = svg_px(f.height);
   std::string svg = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
   svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + w + "\" height=\"" + h +
          "\" viewBox=\"0 0 " + w + " " + h + "\" font-family=\"sans-serif\" font-size=\"12\">\n";
@@ -251,22 +240,22 @@ std::string line_plot_svg(const std::vector<Series>& series, const PlotOptions& 
     const std::string color = xml_escape(series_color(s, i));
     const std::string style =
         options.points ? "fill=\"" + color + "\" stroke=\"none\""
-                       : "fill=\"none\" stroke=\"" + color + "\" stroke-width=\"" + px(s.width) +
-                             "\" stroke-linejoin=\"round\"" + dash_attribute(s);
+                       : "fill=\"none\" stroke=\"" + color + "\" stroke-width=\"" +
+                             svg_px(s.width) + "\" stroke-linejoin=\"round\"" + dash_attribute(s);
     const std::string d = options.points ? marker_path(s, f) : line_path(s, f);
     svg += "<path d=\"" + d + "\" " + style + "/>\n";
   }
   svg += "</g>\n";
 
-  svg += "<rect class=\"frame\" x=\"" + px(f.left) + "\" y=\"" + px(f.top) + "\" width=\"" +
-         px(f.right - f.left) + "\" height=\"" + px(f.bottom - f.top) +
+  svg += "<rect class=\"frame\" x=\"" + svg_px(f.left) + "\" y=\"" + svg_px(f.top) + "\" width=\"" +
+         svg_px(f.right - f.left) + "\" height=\"" + svg_px(f.bottom - f.top) +
          "\" fill=\"none\" stroke=\"black\"/>\n";
   const double mid_x = (f.left + f.right) / 2.0;
   const double mid_y = (f.top + f.bottom) / 2.0;
-  svg += text_element(mid_x, f.top - 12, "middle", options.title, " font-size=\"14\"");
-  svg += text_element(mid_x, f.bottom + 40, "middle", options.x_label);
-  svg += text_element(18, mid_y, "middle", options.y_label,
-                      " transform=\"rotate(-90 18 " + px(mid_y) + ")\"");
+  svg += svg_text(mid_x, f.top - 12, "middle", options.title, " font-size=\"14\"");
+  svg += svg_text(mid_x, f.bottom + 40, "middle", options.x_label);
+  svg += svg_text(18, mid_y, "middle", options.y_label,
+                  " transform=\"rotate(-90 18 " + svg_px(mid_y) + ")\"");
   svg += legend(series, f, options.points);
   if (f.width - f.right > 60.0) {  // make_frame left room for a colour bar
     svg += colorbar_svg(f.right + 16, f.top, 14, f.bottom - f.top, lo, hi, options.color_label);

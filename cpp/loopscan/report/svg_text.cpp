@@ -60,4 +60,17 @@ std::size_t utf8_length(std::string_view text) {
   }));
 }
 
+std::string svg_px(double v) { return format_trimmed(v, 2); }
+
+std::string svg_text(double x, double y, const std::string& anchor, const std::string& text,
+                     const std::string& extra) {
+  return "<text x=\"" + svg_px(x) + "\" y=\"" + svg_px(y) + "\" text-anchor=\"" + anchor + "\"" +
+         extra + ">" + xml_escape(text) + "</text>\n";
+}
+
+std::string svg_line(double x0, double y0, double x1, double y1, const std::string& extra) {
+  return "<line x1=\"" + svg_px(x0) + "\" y1=\"" + svg_px(y0) + "\" x2=\"" + svg_px(x1) +
+         "\" y2=\"" + svg_px(y1) + "\"" + extra + "/>\n";
+}
+
 }  // namespace loopscan::report
