@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Reports render in headless Chromium (scripts/check-report-render).
-#   render_in_chromium.sh real LOOPSCAN CHECKER WORK   a real `run` report and `evaluate` PR figure
-#                                                      must render with data
+#   render_in_chromium.sh real LOOPSCAN CHECKER WORK   a real `run` report, an `evaluate` PR
+#                                                      figure and the demo's page must render
+#                                                      with data
 #   render_in_chromium.sh defects CHECKER WORK         the checker must fail, naming each figure
 #                                                      and its reason, on broken and empty figures
 # Exits 77 (ctest SKIP) without Chromium: a missing browser must not look like a pass.
@@ -25,12 +26,16 @@ if [ "$mode" = real ]; then
     --points "$work/sim/pts_history_file.txt" --out "$work/sc" >/dev/null
   "$cli" evaluate --method sc --signatures "$work/sc" --gt "$work/sim/gt.txt" \
     --out "$work/eval" >/dev/null
+  # The demo's page on the short route: PR curves, route figures, heat maps, scans, closing.
+  "$cli" demo --trajectory builtin:short --out "$work/demo" >/dev/null 2>&1
   code=0
-  out=$("$checker" "$work/run/report.html" "$work/eval/pr.svg") || code=$?
+  out=$("$checker" "$work/run/report.html" "$work/eval/pr.svg" "$work/demo/report/index.html") ||
+    code=$?
   echo "$out"
   [ "$code" -eq 0 ] || { echo "FAIL: a real report's figure does not render (exit $code)"; exit 1; }
   # The page's figures and the PR figure were judged, not skipped as absent.
-  grep -Eq '^ok +.*report\.html figure 1 ' <<<"$out" && grep -Eq '^ok +.*pr\.svg: ' <<<"$out" ||
+  grep -Eq '^ok +.*report\.html figure 1 ' <<<"$out" && grep -Eq '^ok +.*pr\.svg: ' <<<"$out" &&
+    grep -Eq '^ok +.*index\.html figure 11 ' <<<"$out" ||
     { echo "FAIL: the report's figures or pr.svg were not checked"; exit 1; }
   exit 0
 fi
