@@ -20,9 +20,10 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+// Lists of values also split at commas, but not free text: legend names may contain commas.
 void comma_lists(CLI::App* app) {
   for (CLI::Option* o : app->get_options()) {
-    if (o->get_items_expected_max() > 1) o->delimiter(',');
+    if (o->get_items_expected_max() > 1 && o->get_name() != "--names") o->delimiter(',');
   }
   for (CLI::App* sub : app->get_subcommands({})) comma_lists(sub);
 }

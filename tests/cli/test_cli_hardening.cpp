@@ -162,7 +162,7 @@ TEST(Cli, PlotDrawsCsvColumnsAndRejectsBadTables) {
   const fs::path d = temp_dir("plot");
   write(d / "sweep.csv", "offset,same,opposite\n-1,0.2,0.7\n0,0.8,\n1,0.3,0.1\n");
   CliResult r = run("plot --csv " + (d / "sweep.csv").string() +
-                    " --x offset --y same opposite --names S O --y-range 0 1 --out " +
+                    " --x offset --y same,opposite --names 'S, left' O --y-range 0 1 --out " +
                     (d / "f.svg").string());
   ASSERT_EQ(r.code, 0) << r.output;
   std::ifstream in(d / "f.svg");
@@ -171,7 +171,7 @@ TEST(Cli, PlotDrawsCsvColumnsAndRejectsBadTables) {
   for (std::size_t at = svg.find("<path"); at != std::string::npos; at = svg.find("<path", at + 1))
     ++paths;
   EXPECT_GE(paths, 2u);  // the two series (frame and grid may add more)
-  EXPECT_NE(svg.find(">S<"), std::string::npos);
+  EXPECT_NE(svg.find(">S, left<"), std::string::npos);  // legend text keeps its comma
   EXPECT_NE(svg.find(">O<"), std::string::npos);
   r = run("plot --csv " + (d / "sweep.csv").string() + " --x offset --y sam --out " +
           (d / "g.svg").string());
