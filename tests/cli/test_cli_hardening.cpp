@@ -6,6 +6,7 @@
 #include <chrono>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 
 #include "cli/cli_support.hpp"
 #include "loopscan/io/output_set.hpp"
@@ -221,6 +222,44 @@ TEST(Cli, VersionSuggestionsAndCommaLists) {
           (d / "f.svg").string());
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(has(r, "2 series")) << r.output;
+}
+
+// Every option of every command says what it is: in `--help`, each option line is followed by
+// its description, on the same line or the next (CLI11 wraps long types).
+TEST(Cli, EveryOptionHasHelpText) {
+  std::vector<std::string> commands;
+  std::istringstream top(run("--help").output);
+  bool in_list = false;
+  for (std::string line; std::getline(top, line);) {
+    if (line.rfind("Subcommands:", 0) == 0)
+      in_list = true;
+    else if (in_list && line.size() > 2 && line[0] == ' ' && line[2] != ' ')
+      commands.push_back(line.substr(2, line.find(' ', 2) - 2));
+  }
+  ASSERT_GE(commands.size(), 12u);
+  for (const std::string nested : {"db build", "db query", "vocab train"})
+    commands.push_back(nested);
+  std::size_t options = 0;
+  for (const std::string& command : commands) {
+    const CliResult r = run(command + " --help");
+    ASSERT_EQ(r.code, 0) << command;
+    std::vector<std::string> lines;
+    std::istringstream in(r.output);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+      const std::string& l = lines[i];
+      if (l.rfind("  -", 0) != 0) continue;
+      ++options;
+      // "  --name TYPE=default   description": text after a run of 2+ spaces past column 2.
+      const std::size_t gap = l.find("  ", 3);
+      const bool same_line =
+          gap != std::string::npos && l.find_first_not_of(' ', gap) != std::string::npos;
+      const bool next_line = i + 1 < lines.size() && lines[i + 1].rfind("        ", 0) == 0 &&
+                             lines[i + 1].find_first_not_of(' ') != std::string::npos;
+      EXPECT_TRUE(same_line || next_line) << command << ": " << l;
+    }
+  }
+  EXPECT_GE(options, 100u);
 }
 
 }  // namespace loopscan
