@@ -156,6 +156,25 @@ void BM_Query(benchmark::State& state) {
   state.counters["places"] = static_cast<double>(n);
 }
 
+// Default-mode Scan Context: a query with its 4 lateral versions against 880 places (the
+// fixture's 110 described keyframes, cycled), each place's own row only, as the matchers do.
+void BM_QueryScanContextVersions(benchmark::State& state) {
+  const Data& d = data();
+  const DescriptorConfig cfg = DescriptorConfig::for_mode(Mode::Default);
+  std::vector<Signature> sigs;
+  for (const Cloud& c : d.cartesian) sigs.push_back(describe(Method::ScanContext, c, cfg));
+  const auto matcher = make_matcher(Method::ScanContext, Precision::Float);
+  for (std::size_t i = 0; i < 880; ++i) matcher->add(sigs[i % sigs.size()]);
+  Eigen::MatrixXd rows;
+  std::size_t q = 0;
+  for (auto _ : state) {
+    matcher->distances(sigs[q++ % sigs.size()], rows);
+    benchmark::DoNotOptimize(rows.data());
+  }
+  per_item(state, 1);
+  state.counters["query_rows"] = static_cast<double>(sigs.front().rows());
+}
+
 constexpr int kRef = static_cast<int>(Mode::Reference), kDef = static_cast<int>(Mode::Default);
 constexpr int kCart = static_cast<int>(ScanFilter::Cartesian),
               kPol = static_cast<int>(ScanFilter::Polar);
@@ -204,6 +223,7 @@ BENCHMARK(BM_Query)
     ->Args({kM2dp, kFloat, 96})
     ->Args({kDelight, kFloat, 96})
     ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_QueryScanContextVersions)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace loopscan
