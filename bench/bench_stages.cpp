@@ -130,6 +130,21 @@ void BM_Describe(benchmark::State& state) {
   per_item(state, n);
 }
 
+// Times one difference-matrix row per iteration: `n` places (sigs cycled), queries cycling
+// through sigs.
+void time_rows(benchmark::State& state, Method method, Precision precision,
+               const std::vector<Signature>& sigs, std::size_t n) {
+  const auto matcher = make_matcher(method, precision);
+  for (std::size_t i = 0; i < n; ++i) matcher->add(sigs[i % sigs.size()]);
+  Eigen::MatrixXd rows;
+  std::size_t q = 0;
+  for (auto _ : state) {
+    matcher->distances(sigs[q++ % sigs.size()], rows);
+    benchmark::DoNotOptimize(rows.data());
+  }
+  per_item(state, 1);
+}
+
 // One exact difference-matrix row (all components) against the 880 reference places.
 void BM_Query(benchmark::State& state) {
   const auto method = static_cast<Method>(state.range(0));
@@ -143,16 +158,8 @@ void BM_Query(benchmark::State& state) {
     for (Eigen::Index i = 0; i + rows <= all.rows(); i += rows)
       sigs.push_back(all.middleRows(i, rows));
   }
-  const auto matcher = make_matcher(method, precision);
   const std::size_t n = state.range(2) > 0 ? std::size_t(state.range(2)) : sigs.size();
-  for (std::size_t i = 0; i < n; ++i) matcher->add(sigs[i % sigs.size()]);
-  Eigen::MatrixXd rows;
-  std::size_t q = 0;
-  for (auto _ : state) {
-    matcher->distances(sigs[q++ % sigs.size()], rows);
-    benchmark::DoNotOptimize(rows.data());
-  }
-  per_item(state, 1);
+  time_rows(state, method, precision, sigs, n);
   state.counters["places"] = static_cast<double>(n);
 }
 
@@ -163,15 +170,7 @@ void BM_QueryScanContextVersions(benchmark::State& state) {
   const DescriptorConfig cfg = DescriptorConfig::for_mode(Mode::Default);
   std::vector<Signature> sigs;
   for (const Cloud& c : d.cartesian) sigs.push_back(describe(Method::ScanContext, c, cfg));
-  const auto matcher = make_matcher(Method::ScanContext, Precision::Float);
-  for (std::size_t i = 0; i < 880; ++i) matcher->add(sigs[i % sigs.size()]);
-  Eigen::MatrixXd rows;
-  std::size_t q = 0;
-  for (auto _ : state) {
-    matcher->distances(sigs[q++ % sigs.size()], rows);
-    benchmark::DoNotOptimize(rows.data());
-  }
-  per_item(state, 1);
+  time_rows(state, Method::ScanContext, Precision::Float, sigs, 880);
   state.counters["query_rows"] = static_cast<double>(sigs.front().rows());
 }
 

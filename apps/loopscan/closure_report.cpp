@@ -63,17 +63,18 @@ ClosureFigures closure_figures(const ClosureRun& run, const std::optional<Ground
     s.x.push_back(NAN);
     s.y.push_back(NAN);
   }
-  std::vector<report::Series> overlays = {series("VO (before)", before_aligned, "#b0b0b0")};
-  overlays.front().width = 1.0;
+  report::Series vo_before = series("VO (before)", before_aligned, "#b0b0b0");
+  vo_before.width = 1.0;
+  std::vector<report::Series> overlays;
   if (!good.x.empty()) overlays.push_back(good);
   if (!bad.x.empty()) overlays.push_back(bad);
   ClosureFigures f;
   if (!gt) {
-    std::vector<report::Series> all = overlays;
-    all.insert(all.begin() + 1, series("closed (after)", after_aligned, "#1f77b4"));
-    const char* axis[] = {"x [m]", "y [m]", "z [m]"};
+    std::vector<report::Series> all = {vo_before,
+                                       series("closed (after)", after_aligned, "#1f77b4")};
+    all.insert(all.end(), overlays.begin(), overlays.end());
     f.map = report::map_plot_svg(all, "Trajectory before and after loop closing (no ground truth)",
-                                 axis[ax], axis[az]);
+                                 report::axis_label(ax), report::axis_label(az));
     return f;
   }
   report::TrajectoryFigure t;
@@ -81,6 +82,7 @@ ClosureFigures closure_figures(const ClosureRun& run, const std::optional<Ground
   t.gt = reference;
   t.estimate = after_aligned;
   t.estimate_name = "closed (after)";
+  t.underlays = {vo_before};
   t.overlays = overlays;
   f.map = report::trajectory_error_map_svg(t);
   f.error = report::error_over_distance_svg(

@@ -59,13 +59,8 @@ void write_figure_files(const report::HtmlPage& page, const std::string& dir) {
 void run_demo(const DemoArgs& a) {
   const auto t_start = std::chrono::steady_clock::now();
   // One numbered line per step; each part then ends with its own time (progress.hpp).
-  constexpr int kSteps = 8;
-  int step_number = 0;
-  auto step = [&](const std::string& what) {
-    std::printf("[%d/%d] %s\n", ++step_number, kSteps, what.c_str());
-    std::fflush(stdout);
-  };
-  step("route and world");
+  StepCounter steps(8);
+  steps.next("route and world");
   StepProgress world_time("  world", "objects");
   const LoadedTrajectory route = load_trajectory(a.trajectory);
   sim::WorldConfig wc;
@@ -78,7 +73,7 @@ void run_demo(const DemoArgs& a) {
   std::vector<Session> sessions;
   const char* names[2] = {"summer", "winter"};
   for (int i = 0; i < 2; ++i) {
-    step(std::string("the ") + names[i] + " drive: simulated stereo VO");
+    steps.next(std::string("the ") + names[i] + " drive: simulated stereo VO");
     StepProgress progress("  simulate", "keyframes");
     sim::Conditions c = sim::Conditions::for_season(sim::parse_season(names[i]));
     c.session_seed = 100 + i;
@@ -87,6 +82,7 @@ void run_demo(const DemoArgs& a) {
     vo.progress = progress.callback();
     sessions.push_back(simulate_session(route, world, c, camera, vo, {}));
     progress.finish();
+    vo.progress = {};
     write_session(a.out + "/" + names[i], route, sessions.back());
     // From here on the session is its files: `describe` + `evaluate` on them recompute the table.
     reload_session(a.out + "/" + names[i], route, sessions.back());
@@ -96,9 +92,9 @@ void run_demo(const DemoArgs& a) {
   results.route = &route.trajectory;
   results.threads = a.threads;
   for (Method method : {Method::ScanContext, Method::M2dp, Method::Delight}) {
-    step(method_name(method) +
-         ": describe both drives, then match summer against itself and "
-         "winter against summer");
+    steps.next(method_name(method) +
+               ": describe both drives, then match summer against itself and "
+               "winter against summer");
     MethodResult mr;
     mr.method = method;
     SequenceOptions options = SequenceOptions::make(method, Mode::Default);
@@ -111,6 +107,7 @@ void run_demo(const DemoArgs& a) {
       options.progress = progress.callback();
       sig[i] = describe_sequence(sessions[i].vo.poses, sessions[i].vo.points, options);
       progress.finish();
+      options.progress = {};  // `progress` ends here; `options` lives on
       for (Signature& s : sig[i].signatures) s = io::as_written(s);  // signatures.txt's digits
       for (int id : sig[i].keyframe_ids) pos[i].push_back(sessions[i].gt_positions[id]);
     }
@@ -125,6 +122,7 @@ void run_demo(const DemoArgs& a) {
       eo.progress = progress.callback();
       mr.same = eval::evaluate_places(sig[0].signatures, sig[0].signatures, pos[0], pos[0], eo);
       progress.finish();
+      eo.progress = {};
     }
     {
       StepProgress progress("  match winter vs summer", "rows");
@@ -132,6 +130,7 @@ void run_demo(const DemoArgs& a) {
       eo.protocol = eval::cross_session_protocol();
       mr.cross = eval::evaluate_places(sig[1].signatures, sig[0].signatures, pos[1], pos[0], eo);
       progress.finish();
+      eo.progress = {};
     }
     mr.map_positions = pos[0];
     mr.query_positions = pos[1];
@@ -150,9 +149,9 @@ void run_demo(const DemoArgs& a) {
     results.methods.push_back(mr);
   }
 
-  step("loop closing: the summer drive, then the winter drive in the summer map");
+  steps.next("loop closing: the summer drive, then the winter drive in the summer map");
   const DemoClosing closing = close_demo_sessions(a.out, route, sessions);
-  step("report");
+  steps.next("report");
   std::printf("\n%-8s | %-26s | %-26s | %9s %9s %9s\n", "", "summer vs summer", "winter vs summer",
               "imitate", "describe", "query");
   std::printf("%-8s | %8s %8s %8s | %8s %8s %8s | %9s %9s %9s\n", "method", "AUC", "R@100P",
@@ -205,7 +204,9 @@ void add_demo_command(CLI::App& app) {
       "demo", "Simulate the built-in city in summer and winter, run all descriptors, report");
   cmd->add_option("--out", args->out, "output directory")->capture_default_str();
   cmd->add_option("--seed", args->seed, "world seed")->capture_default_str();
-  cmd->add_option("--trajectory", args->trajectory, "route (builtin:short: a quick look)")
+  cmd->add_option("--trajectory", args->trajectory,
+                  "route: builtin:city, builtin:short (a quick look), builtin:reverse, kitti:FILE, "
+                  "robotcar:FILE")
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "threads for description and matching")
       ->check(finite_in(1, kMaxThreads))

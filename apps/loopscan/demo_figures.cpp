@@ -55,8 +55,9 @@ std::string scan_figure(const ExampleScan& e) {
   std::snprintf(
       marker, sizeof marker,
       "<g class=\"sensor\"><path d=\"M%.1f,%.1f L%.1f,%.1f L%.1f,%.1f Z\" fill=\"#d62728\" "
-      "stroke=\"black\"/><text x=\"%.1f\" y=\"%.1f\" fill=\"#d62728\" stroke=\"white\" stroke-width=\"3\" "
-                "paint-order=\"stroke\">sensor, "
+      "stroke=\"black\"/><text x=\"%.1f\" y=\"%.1f\" fill=\"#d62728\" stroke=\"white\" "
+      "stroke-width=\"3\" "
+      "paint-order=\"stroke\">sensor, "
       "heading +z</text></g>\n</svg>\n",
       cx, cy - 1.6 * s, cx - s, cy + s, cx + s, cy + s, cx + s + 4, cy + s);
   svg.replace(svg.rfind("</svg>"), std::string::npos, marker);
@@ -102,7 +103,7 @@ ExampleScan example_scan(const sim::VoOutput& vo, const SequenceOptions& options
 
 report::HtmlPage demo_page(const DemoResults& r) {
   report::HtmlPage page;
-  page.title = "loopscan demo: the built-in city, summer and winter";
+  page.title = "loopscan demo: " + r.route->name + ", summer and winter";
   page.paragraphs.push_back(
       "One synthetic world, driven twice: a summer session (the map) and a winter session "
       "(queries). Same-season: summer against itself (10 m, index mask 100). Cross-season: winter "

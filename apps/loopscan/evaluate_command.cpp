@@ -62,7 +62,8 @@ void run_evaluate(const EvaluateArgs& a) {
   options.progress = progress.callback();
   const eval::PlaceEvaluation ev =
       eval::evaluate_places(queries.places, db.places, queries.positions, db.positions, options);
-  progress.finish();
+  const bool two_passes = fusion == Fusion::Adaptive && method != Method::Delight;
+  progress.finish(two_passes ? " (adaptive fusion: two passes over the queries)" : "");
 
   nlohmann::json metrics = {
       {"method", method_name(method)},

@@ -72,7 +72,17 @@ void StepProgress::update(std::size_t done, std::size_t total) {
   std::fflush(stderr);
 }
 
+StepProgress::~StepProgress() {
+  if (drawn_ && !finished_) std::fprintf(stderr, "\n");
+}
+
+void StepCounter::next(const std::string& what) {
+  std::printf("[%d/%d] %s\n", ++done_, steps_, what.c_str());
+  std::fflush(stdout);
+}
+
 void StepProgress::finish(const std::string& extra) {
+  finished_ = true;
   if (quiet_) return;
   const double s = seconds();
   if (drawn_) std::fprintf(stderr, "\r\033[K");  // clear the bar's line

@@ -14,6 +14,10 @@ class StepProgress {
  public:
   // `unit`: what is counted ("keyframes", "queries"); quiet = print nothing at all.
   StepProgress(std::string label, std::string unit, bool quiet = false);
+  // A step left by an exception ends its drawn bar, so the error starts on a line of its own.
+  ~StepProgress();
+  StepProgress(const StepProgress&) = delete;
+  StepProgress& operator=(const StepProgress&) = delete;
   void update(std::size_t done, std::size_t total);
   // "<label>: <done> <unit> in <s> s (<rate>/s)<extra>", ending a drawn bar first.
   void finish(const std::string& extra = "");
@@ -28,7 +32,17 @@ class StepProgress {
   std::chrono::steady_clock::time_point start_, last_draw_;
   std::size_t done_ = 0, total_ = 0;
   int last_decile_ = 0;
-  bool drawn_ = false;
+  bool drawn_ = false, finished_ = false;
+};
+
+// "[k/N] what" on stdout, k counting up from 1: each step of a command numbered once.
+class StepCounter {
+ public:
+  explicit StepCounter(int steps) : steps_(steps) {}
+  void next(const std::string& what);
+
+ private:
+  int steps_, done_ = 0;
 };
 
 // "12 s", "3 min 05 s": for remaining times and step times.

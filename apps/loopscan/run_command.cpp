@@ -52,13 +52,8 @@ void run_all(const RunArgs& a) {
   VoArgs vo_args = a.vo;
   vo_args.out = a.out + "/vo";
   // One numbered line per step; the parts of each end with their own time (progress.hpp).
-  const int steps = 3 + static_cast<int>(a.methods.size());
-  int step_number = 0;
-  auto step = [&](const std::string& what) {
-    std::printf("[%d/%d] %s\n", ++step_number, steps, what.c_str());
-    std::fflush(stdout);
-  };
-  step("stereo VO on " + a.vo.kitti);
+  StepCounter steps(3 + static_cast<int>(a.methods.size()));
+  steps.next("stereo VO on " + a.vo.kitti);
   VoResult vo = run_vo_and_write(vo_args);
   // Describe what the VO wrote (the SO-DSO files round points to 0.1 mm), as `describe` would.
   vo.run.keyframe_poses = io::read_sodso_poses(vo_args.out + "/poses_history_file.txt");
@@ -86,7 +81,7 @@ void run_all(const RunArgs& a) {
   bool places_from_lidar = false;
   std::vector<MethodRun> runs;
   for (const std::string& name : order) {
-    step(name + ": describe the keyframes" + (gt_rows.empty() ? "" : ", then match them"));
+    steps.next(name + ": describe the keyframes" + (gt_rows.empty() ? "" : ", then match them"));
     MethodRun r;
     r.name = name;
     const std::string dir = a.out + "/" + name;
@@ -178,7 +173,7 @@ void run_all(const RunArgs& a) {
     runs.push_back(std::move(r));
   }
 
-  step("loop closing (Scan Context, verified, pose graph)");
+  steps.next("loop closing (Scan Context, verified, pose graph)");
   std::optional<GroundTruth> gt;
   if (!vo.gt_path.empty()) gt = read_ground_truth(vo.gt_path, "kitti", vo.run.keyframe_poses);
   nlohmann::json closing = close_vo_run(a.out + "/closure", vo.run.keyframe_poses, vo.run.points,
@@ -188,7 +183,7 @@ void run_all(const RunArgs& a) {
   const std::string closing_error_svg =
       closing.contains("error_figure_svg") ? closing["error_figure_svg"].get<std::string>() : "";
   closing.erase("error_figure_svg");
-  step("report");
+  steps.next("report");
   std::printf("\n%-8s %8s %8s %8s %9s %7s %11s %11s %10s\n", "method", "AUC", "R@100P", "F1max",
               "GT loops", "places", "prepare ms", "describe ms", "query ms");
   nlohmann::json summary = {

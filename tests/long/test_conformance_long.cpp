@@ -1,5 +1,5 @@
 // The long suite (label `long`, `scripts/test --long`): reference-mode M2DP over the whole
-// k06 fixture, signatures and metrics (~40 s on 2 cores; its Jacobi SVDs take ~190 ms a place).
+// k06 fixture, signatures and metrics (~40 s on 2 cores; its Jacobi SVDs take ~50 ms a place).
 // The default suite compares every 20th place (Conformance.M2dpReferenceModeEveryTwentiethPlace).
 #include "core/pipeline/conformance_support.hpp"
 

@@ -91,8 +91,14 @@ TEST(ReportFigures, ValueColouredLineCoversEverySegmentOnce) {
   const std::size_t first =
       svg.find("M" + lr::format_trimmed(lr::make_frame({s}, o).to_px_x(0), 2));
   ASSERT_NE(first, std::string::npos);
-  EXPECT_NE(svg.find(lr::scale_color(0.5 / 24), first), std::string::npos);
-  EXPECT_NE(svg.find(lr::scale_color(23.5 / 24)), std::string::npos);
+  const std::size_t stroke = svg.find("stroke=\"", first);  // of the path holding it
+  EXPECT_EQ(svg.substr(stroke + 8, 7), lr::scale_color(0.5 / 24));
+  // The last segment's path (the one ending at x = 50) has the brightest step's colour.
+  const std::string last_end =
+      " L" + lr::format_trimmed(lr::make_frame({s}, o).to_px_x(50), 2) + ",";
+  const std::size_t last = svg.find(last_end);
+  ASSERT_NE(last, std::string::npos);
+  EXPECT_EQ(svg.substr(svg.find("stroke=\"", last) + 8, 7), lr::scale_color(23.5 / 24));
   // Without a value-coloured series: no colour bar, canvas as asked.
   s.value.clear();
   EXPECT_EQ(lr::line_plot_svg({s}, o).find("colorbar"), std::string::npos);
@@ -166,6 +172,12 @@ TEST(ReportFigures, TrajectoryErrorsAgainstADirectComputation) {
   }
   EXPECT_NEAR(e.rmse_m, std::sqrt(sum / 100), 1e-12);
   EXPECT_EQ(lr::top_view_axes(gt), (std::pair<int, int>{0, 2}));  // y is flat: x, z
+  // Ties leave out y (down): a straight drive along x is drawn x against z, not height.
+  const std::vector<Eigen::Vector3d> straight = {{0, 0, 0}, {36, 0, 0}};
+  EXPECT_EQ(lr::top_view_axes(straight), (std::pair<int, int>{0, 2}));
+  // North-east-down (RobotCar): down is flat, north and east are drawn.
+  const std::vector<Eigen::Vector3d> ned = {{0, 0, 1}, {50, 20, 1.5}};
+  EXPECT_EQ(lr::top_view_axes(ned), (std::pair<int, int>{0, 1}));
   EXPECT_THROW(lr::trajectory_errors(gt, {}), std::invalid_argument);
 
   lr::TrajectoryFigure f;

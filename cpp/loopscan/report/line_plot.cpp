@@ -119,8 +119,9 @@ std::string value_paths(const Series& s, const PlotFrame& f, double lo, double h
   for_each_segment(s, f,
                    [&](std::size_t i, double x0, double y0, double x1, double y1, bool joined) {
                      const double v = i < s.value.size() ? 0.5 * (s.value[i - 1] + s.value[i]) : lo;
-                     const double t = hi > lo ? (v - lo) / (hi - lo) : 0.0;
-                     const int k = std::clamp(static_cast<int>(t * kSteps), 0, kSteps - 1);
+                     double t = hi > lo ? (v - lo) / (hi - lo) : 0.0;
+                     t = std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.0;  // before the cast
+                     const int k = std::min(static_cast<int>(t * kSteps), kSteps - 1);
                      if (!(joined && last_step == k && pen_here[k]))
                        d[k] += (d[k].empty() ? "M" : " M") + svg_px(x0) + "," + svg_px(y0);
                      d[k] += " L" + svg_px(x1) + "," + svg_px(y1);

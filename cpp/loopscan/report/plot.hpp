@@ -39,7 +39,8 @@ struct PlotOptions {
 // A complete SVG document: frame, grid, ticks with labels, axis labels, title, legend below the
 // plot area (never over the data), colour bar when a series is value-coloured. All text
 // is XML-escaped, lines are clipped to the frame, non-finite points break the line. Each series
-// is exactly one <path> element. Deterministic: same input, same bytes.
+// is one <path> element (a value-coloured one: one per colour step used). Deterministic: same
+// input, same bytes.
 std::string line_plot_svg(const std::vector<Series>& series, const PlotOptions& options);
 
 // Equal-aspect plot with ranges taken from the data, for maps and trajectories.

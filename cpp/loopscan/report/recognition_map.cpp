@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "loopscan/report/plot.hpp"
+#include "loopscan/report/trajectory_error.hpp"
 
 namespace loopscan::report {
 
@@ -29,7 +30,9 @@ std::size_t accepted_at_full_precision(const eval::PrResult& pr) {
 }
 
 std::string recognition_map_svg(const RecognitionMap& map, const eval::PrResult& pr) {
-  const int ax = map.x_axis, ay = map.y_axis;
+  const std::pair<int, int> top = top_view_axes(map.db_pos);
+  const int ax = map.x_axis >= 0 ? map.x_axis : top.first;
+  const int ay = map.y_axis >= 0 ? map.y_axis : top.second;
   Series route{"route", {}, {}, "#c8c8c8"};
   route.width = 3.0;
   for (const Eigen::Vector3d& p : map.db_pos) {
@@ -76,8 +79,8 @@ std::string recognition_map_svg(const RecognitionMap& map, const eval::PrResult&
   PlotOptions options;
   options.title = map.title + ": " + std::to_string(n_hits) + " of " + std::to_string(gt.n_loops) +
                   " revisits at 100% precision";
-  options.x_label = map.x_label;
-  options.y_label = map.y_label;
+  options.x_label = axis_label(ax);
+  options.y_label = axis_label(ay);
   options.x_min = options.x_max = options.y_min = options.y_max = 0;  // ranged from the data
   options.equal_aspect = true;
   return line_plot_svg({route, missed, links, hits}, options);

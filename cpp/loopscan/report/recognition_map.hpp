@@ -16,8 +16,8 @@ struct RecognitionMap {
   std::string title;                               // the counts are appended
   std::vector<Eigen::Vector3d> query_pos, db_pos;  // as evaluated (index = query / place)
   eval::Protocol protocol;                         // decides which queries are revisits
-  int x_axis = 0, y_axis = 2;                      // coordinates drawn (default: x, z)
-  std::string x_label = "x [m]", y_label = "z [m]";
+  // Coordinates drawn; -1: the two of largest spread (top_view_axes), labelled "x [m]" etc.
+  int x_axis = -1, y_axis = -1;
 };
 
 // Accepted = the ranked matches down to the last one at precision 1 (all true by definition).

@@ -31,21 +31,21 @@ std::pair<int, int> top_view_axes(const std::vector<Eigen::Vector3d>& positions)
   Eigen::Vector3d lo = positions[0], hi = lo;
   for (const Eigen::Vector3d& p : positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   const Eigen::Vector3d spread = hi - lo;
-  int smallest = 0;  // the axis left out: the one with the least spread, y (down) on ties
-  for (int a : {1, 2, 0}) {
-    if (spread[a] <= spread[smallest]) smallest = a;
+  int smallest = 1;  // the axis left out: the one with the least spread, y (down) on ties
+  for (int a : {0, 2}) {
+    if (spread[a] < spread[smallest]) smallest = a;
   }
   if (smallest == 0) return {1, 2};
   if (smallest == 1) return {0, 2};
   return {0, 1};
 }
 
-namespace {
-
 const char* axis_label(int axis) {
   static const char* const labels[] = {"x [m]", "y [m]", "z [m]"};
   return labels[axis];
 }
+
+namespace {
 
 Series top_view(const std::string& name, const std::vector<Eigen::Vector3d>& p, int ax, int ay,
                 const std::string& color) {
@@ -68,7 +68,9 @@ std::string trajectory_error_map_svg(const TrajectoryFigure& f) {
   Series estimate = top_view(f.estimate_name + " (colour: APE)", f.estimate, ax, ay, "");
   estimate.value = e.error_m;
   estimate.width = 2.5;
-  std::vector<Series> all = {truth, estimate};
+  std::vector<Series> all = {truth};
+  all.insert(all.end(), f.underlays.begin(), f.underlays.end());
+  all.push_back(estimate);
   all.insert(all.end(), f.overlays.begin(), f.overlays.end());
   PlotOptions o;
   o.title = f.title + " (APE RMSE " + format_fixed(e.rmse_m, 2) + " m)";

@@ -25,12 +25,16 @@ TrajectoryErrors trajectory_errors(const std::vector<Eigen::Vector3d>& gt,
 // RobotCar's north-east-down), in ascending order.
 std::pair<int, int> top_view_axes(const std::vector<Eigen::Vector3d>& positions);
 
+// "x [m]", "y [m]" or "z [m]".
+const char* axis_label(int axis);
+
 struct TrajectoryFigure {
   std::string title;
   std::vector<Eigen::Vector3d> gt, estimate;  // same length, same frame
   std::string estimate_name = "estimate";
-  // Extra series drawn on top (e.g. loops), in the same top-view coordinates.
-  std::vector<Series> overlays;
+  // Extra series in the same top-view coordinates: under the estimate (e.g. the trajectory
+  // before a correction) and on top of it (e.g. loops).
+  std::vector<Series> underlays, overlays;
 };
 
 // Map: ground truth dashed, the estimate coloured by APE with a colour bar (m).

@@ -31,7 +31,7 @@ TEST(Conformance, DelightReferenceMode) {
   expect_metrics_match(Method::Delight, ours.signatures, Fusion::Fused);
 }
 
-// The default suite's M2DP check: the reference-mode Jacobi SVDs take ~190 ms a place, so
+// The default suite's M2DP check: the reference-mode Jacobi SVDs take ~50 ms a place, so
 // every 20th place of the fixture (all keyframe ids and scans still imitated) is described
 // and compared; the whole run, with the metrics, is Conformance.M2dpReferenceMode (label long).
 TEST(Conformance, M2dpReferenceModeEveryTwentiethPlace) {

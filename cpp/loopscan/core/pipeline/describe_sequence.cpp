@@ -92,13 +92,16 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
     imitator.push(keyframe, points.data() + first, next_point - first, reset, filter, ready);
     out.imitate_ms += ms_since(t0);
     take();
-    report_progress(options.progress, std::size_t(&keyframe - poses.data()) + 1, poses.size());
+    // The last keyframe is reported after the final descriptions, not before them.
+    const std::size_t walked = std::size_t(&keyframe - poses.data()) + 1;
+    if (walked < poses.size()) report_progress(options.progress, walked, poses.size());
   }
   const auto t0 = std::chrono::steady_clock::now();
   imitator.finish(filter, ready);
   out.imitate_ms += ms_since(t0);
   take();
   flush();
+  report_progress(options.progress, poses.size(), poses.size());
   if (const double n = static_cast<double>(out.signatures.size()); n > 0) {
     out.imitate_ms /= n;
     out.describe_ms /= n;
