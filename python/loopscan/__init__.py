@@ -1,0 +1,24 @@
+"""loopscan: fast, robust place recognition for stereo visual odometry (Mo & Sattar 2020).
+
+The functions take and return numpy arrays: poses as (ids, T_cam_world (K, 3, 4)), VO points as
+(ids, xyz_gray (N, 4)), signatures as (rows, values) float64 arrays, positions as (N, 3).
+"""
+from ._loopscan import (  # noqa: F401
+    PlaceEvaluation,
+    SequenceSignatures,
+    SignatureSet,
+    __version__,
+    describe,
+    describe_sequence,
+    evaluate_places,
+    read_positions,
+    read_signatures,
+    read_sodso_points,
+    read_sodso_poses,
+)
+
+__all__ = [
+    "PlaceEvaluation", "SequenceSignatures", "SignatureSet", "__version__", "describe",
+    "describe_sequence", "evaluate_places", "read_positions", "read_signatures",
+    "read_sodso_points", "read_sodso_poses",
+]
