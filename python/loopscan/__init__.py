@@ -4,7 +4,11 @@ The functions take and return numpy arrays: poses as (ids, T_cam_world (K, 3, 4)
 (ids, xyz_gray (N, 4)), signatures as (rows, values) float64 arrays, positions as (N, 3).
 """
 from ._loopscan import (  # noqa: F401
+    Candidate,
+    Database,
+    KeyframeResult,
     PlaceEvaluation,
+    Recognizer,
     SequenceSignatures,
     SignatureSet,
     __version__,
@@ -18,7 +22,7 @@ from ._loopscan import (  # noqa: F401
 )
 
 __all__ = [
-    "PlaceEvaluation", "SequenceSignatures", "SignatureSet", "__version__", "describe",
+    "Candidate", "Database", "KeyframeResult", "PlaceEvaluation", "Recognizer", "SequenceSignatures", "SignatureSet", "__version__", "describe",
     "describe_sequence", "evaluate_places", "read_positions", "read_signatures",
     "read_sodso_points", "read_sodso_poses",
 ]

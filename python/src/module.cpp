@@ -8,6 +8,7 @@ namespace loopscan::python {
 void bind_describe(py::module_& m);
 void bind_io(py::module_& m);
 void bind_evaluate(py::module_& m);
+void bind_database(py::module_& m);
 }  // namespace loopscan::python
 
 PYBIND11_MODULE(_loopscan, m) {
@@ -16,4 +17,5 @@ PYBIND11_MODULE(_loopscan, m) {
   loopscan::python::bind_describe(m);
   loopscan::python::bind_io(m);
   loopscan::python::bind_evaluate(m);
+  loopscan::python::bind_database(m);
 }

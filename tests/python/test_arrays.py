@@ -3,20 +3,7 @@ import numpy as np
 import pytest
 
 import loopscan
-
-
-def street(n_keyframes=60, points_per_keyframe=300, seed=3):
-    """A straight drive along z past random boxes: poses and VO points as the readers return."""
-    rng = np.random.default_rng(seed)
-    ids = np.arange(n_keyframes, dtype=np.int32)
-    T = np.zeros((n_keyframes, 3, 4))
-    T[:, :, :3] = np.eye(3)
-    T[:, 2, 3] = -1.0 * ids  # world-to-camera: the camera at z = id metres
-    pid = np.repeat(ids, points_per_keyframe)
-    xyz = rng.uniform([-20, -3, -5], [20, 1, 40], size=(pid.size, 3))
-    xyz[:, 2] += pid  # points ahead of each keyframe
-    gray = rng.uniform(0, 255, size=(pid.size, 1))
-    return (ids, T), (pid, np.hstack([xyz, gray]))
+from conftest import street
 
 
 def test_signature_shapes_per_method_and_mode():

@@ -1,0 +1,96 @@
+"""Database and Recognizer from Python: streaming equals describe-then-query, save/load round
+trip, every QueryOptions keyword, no reference leaks over 10k queries."""
+import gc
+import sys
+
+import numpy as np
+import pytest
+
+import loopscan
+from conftest import street
+
+
+def loop_drive():
+    """The street driven twice (keyframes 0..79 and again 80..159 over the same points)."""
+    (ids, T), (pid, xyzg) = street(80, 300, seed=5)
+    ids2 = np.concatenate([ids, ids + 80])
+    T2 = np.concatenate([T, T])
+    pid2 = np.concatenate([pid, pid + 80])
+    xyzg2 = np.concatenate([xyzg, xyzg])
+    return (ids2, T2), (pid2, xyzg2)
+
+
+def test_recognizer_streams_what_describe_sequence_describes():
+    (ids, T), (pid, xyzg) = loop_drive()
+    rec = loopscan.Recognizer(method="sc", exclude_recent=20)  # twins are 80 places back
+    described, matched = [], {}
+    for i, kf in enumerate(ids):
+        for r in rec.add_keyframe(int(kf), T[i], xyzg[pid == kf]):
+            described.append(r.keyframe)
+            if r.matches:
+                matched[r.keyframe] = r.matches[0]
+    for r in rec.finish():
+        described.append(r.keyframe)
+    offline = loopscan.describe_sequence((ids, T), (pid, xyzg), method="sc", reset_ids=[])
+    assert described == list(offline.keyframe_ids)
+    assert len(rec.database) == len(offline)
+    # Second lap, once its local map holds only second-lap points (30 keyframes in): each
+    # keyframe is recognised as its twin of the first lap.
+    second = [k for k in matched if k >= 110]
+    assert len(second) >= 45
+    assert sum(matched[k].keyframe == k - 80 for k in second) >= 0.9 * len(second)
+    assert "keyframe" in repr(matched[second[0]])
+
+
+def database_of(sigs):
+    db = loopscan.Database(method="sc")
+    for kf, s in zip(sigs.keyframe_ids, sigs.signatures):
+        db.add(s, keyframe=int(kf), session=1, pose=np.hstack([np.eye(3), [[0], [0], [-kf]]]))
+    return db
+
+
+def test_database_round_trip_and_query_options(tmp_path):
+    poses, points = loop_drive()
+    sigs = loopscan.describe_sequence(poses, points, method="sc", reset_ids=[])
+    db = database_of(sigs)
+    assert len(db) == len(sigs) and db.method == "sc" and db.memory_bytes > 0
+    db.save(str(tmp_path / "map.db"))
+    loaded = loopscan.Database.load(str(tmp_path / "map.db"))
+    assert len(loaded) == len(db)
+    q = sigs.signatures[100]
+    for retrieval in ("exact", "indexed"):
+        a = db.query(q, k=3, retrieval=retrieval, exclude_recent=0)
+        b = loaded.query(q, k=3, retrieval=retrieval, exclude_recent=0)
+        assert [(c.keyframe, c.distance) for c in a] == [(c.keyframe, c.distance) for c in b]
+        # The place itself or its twin of the other lap (identical points: a tie).
+        assert a[0].keyframe % 80 == sigs.keyframe_ids[100] % 80 and a[0].session == 1
+    # Keywords reach the query: sessions filters, max_distance cuts, k bounds the answer.
+    assert db.query(q, k=5, sessions=[2]) == []
+    assert len(db.query(q, k=5, retrieval="exact")) == 5
+    assert db.query(q, k=5, max_distance=-1e9) == []
+    with pytest.raises(ValueError, match="retrieval: expected 'indexed' or 'exact'"):
+        db.query(q, retrieval="fast")
+    with pytest.raises(ValueError):
+        db.query(q, candidates=0)
+    with pytest.raises(ValueError, match=r"signature: expected an array of shape \(N, N\)"):
+        db.query(np.zeros(5))
+    with pytest.raises(RuntimeError, match="nothing.db"):
+        loopscan.Database.load(str(tmp_path / "nothing.db"))
+
+
+def test_ten_thousand_queries_leak_no_references():
+    poses, points = street(60, 200)
+    sigs = loopscan.describe_sequence(poses, points, method="delight")
+    db = loopscan.Database(method="delight")
+    for kf, s in zip(sigs.keyframe_ids, sigs.signatures):
+        db.add(s, keyframe=int(kf))
+    q = sigs.signatures[3]
+    for _ in range(200):  # warm-up: caches and interned objects settle
+        db.query(q, k=2)
+    gc.collect()
+    objects, refs = len(gc.get_objects()), sys.getrefcount(q)
+    for _ in range(10_000):
+        db.query(q, k=2)
+    gc.collect()
+    assert sys.getrefcount(q) == refs
+    assert len(gc.get_objects()) - objects < 100
