@@ -15,14 +15,19 @@ from ._loopscan import (  # noqa: F401
     describe,
     describe_sequence,
     evaluate_places,
+    odometry_metrics,
+    read_kitti_poses,
     read_positions,
     read_signatures,
     read_sodso_points,
     read_sodso_poses,
+    read_tum,
+    relative_pose_error,
 )
 
 __all__ = [
     "Candidate", "Database", "KeyframeResult", "PlaceEvaluation", "Recognizer", "SequenceSignatures", "SignatureSet", "__version__", "describe",
-    "describe_sequence", "evaluate_places", "read_positions", "read_signatures",
-    "read_sodso_points", "read_sodso_poses",
+    "describe_sequence", "evaluate_places", "odometry_metrics", "read_kitti_poses",
+    "read_positions", "read_signatures", "read_sodso_points", "read_sodso_poses", "read_tum",
+    "relative_pose_error",
 ]

@@ -9,6 +9,7 @@ void bind_describe(py::module_& m);
 void bind_io(py::module_& m);
 void bind_evaluate(py::module_& m);
 void bind_database(py::module_& m);
+void bind_metrics(py::module_& m);
 }  // namespace loopscan::python
 
 PYBIND11_MODULE(_loopscan, m) {
@@ -18,4 +19,5 @@ PYBIND11_MODULE(_loopscan, m) {
   loopscan::python::bind_io(m);
   loopscan::python::bind_evaluate(m);
   loopscan::python::bind_database(m);
+  loopscan::python::bind_metrics(m);
 }
