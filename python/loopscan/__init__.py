@@ -6,7 +6,10 @@ The functions take and return numpy arrays: poses as (ids, T_cam_world (K, 3, 4)
 from ._loopscan import (  # noqa: F401
     Candidate,
     Database,
+    KeyframeClosure,
     KeyframeResult,
+    Loop,
+    LoopCloser,
     PlaceEvaluation,
     Recognizer,
     SequenceSignatures,
@@ -26,7 +29,7 @@ from ._loopscan import (  # noqa: F401
 )
 
 __all__ = [
-    "Candidate", "Database", "KeyframeResult", "PlaceEvaluation", "Recognizer", "SequenceSignatures", "SignatureSet", "__version__", "describe",
+    "Candidate", "Database", "KeyframeClosure", "KeyframeResult", "Loop", "LoopCloser", "PlaceEvaluation", "Recognizer", "SequenceSignatures", "SignatureSet", "__version__", "describe",
     "describe_sequence", "evaluate_places", "odometry_metrics", "read_kitti_poses",
     "read_positions", "read_signatures", "read_sodso_points", "read_sodso_poses", "read_tum",
     "relative_pose_error",

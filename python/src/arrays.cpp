@@ -86,6 +86,24 @@ py::tuple from_points(const std::vector<IdPoint>& points) {
   return py::make_tuple(ids, xyz);
 }
 
+KeyframePose keyframe_pose(int keyframe, const DoubleArray& T_cam_world) {
+  require_shape(T_cam_world, "T_cam_world", {3, 4}, "world-to-camera transform, top three rows");
+  KeyframePose kf;
+  kf.id = keyframe;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) kf.T_cam_world(r, c) = T_cam_world.at(r, c);
+  return kf;
+}
+
+std::vector<IdPoint> keyframe_points(int keyframe, const DoubleArray& points) {
+  require_shape(points, "points", {-1, 4}, "x y z gray per point, world frame");
+  std::vector<IdPoint> pts(static_cast<std::size_t>(points.shape(0)));
+  const auto p = points.unchecked<2>();
+  for (py::ssize_t i = 0; i < points.shape(0); ++i)
+    pts[i] = {keyframe, {p(i, 0), p(i, 1), p(i, 2)}, static_cast<float>(p(i, 3))};
+  return pts;
+}
+
 Cloud to_cloud(const DoubleArray& xyz_gray) {
   require_shape(xyz_gray, "points", {-1, 4}, "x y z gray per point, camera frame");
   Cloud cloud(static_cast<std::size_t>(xyz_gray.shape(0)));

@@ -29,6 +29,11 @@ py::tuple from_poses(const std::vector<KeyframePose>& poses);
 std::vector<IdPoint> to_points(const IntArray& ids, const DoubleArray& xyz_gray);
 py::tuple from_points(const std::vector<IdPoint>& points);
 
+// One keyframe as streaming callers give it: id, world-to-camera (3, 4) and its points (N, 4)
+// x y z gray in the world frame.
+KeyframePose keyframe_pose(int keyframe, const DoubleArray& T_cam_world);
+std::vector<IdPoint> keyframe_points(int keyframe, const DoubleArray& points);
+
 // (N, 4) x y z gray -> one scan (camera frame).
 Cloud to_cloud(const DoubleArray& xyz_gray);
 

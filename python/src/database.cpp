@@ -153,12 +153,8 @@ void bind_database(py::module_& m) {
           "add_keyframe",
           [](Recognizer& r, int keyframe, const DoubleArray& T_cam_world, const DoubleArray& points,
              bool reset) {
-            const KeyframePose kf{keyframe, *to_pose(T_cam_world, "T_cam_world")};
-            require_shape(points, "points", {-1, 4}, "x y z gray per point, world frame");
-            std::vector<IdPoint> pts(static_cast<std::size_t>(points.shape(0)));
-            const auto p = points.unchecked<2>();
-            for (py::ssize_t i = 0; i < points.shape(0); ++i)
-              pts[i] = {keyframe, {p(i, 0), p(i, 1), p(i, 2)}, static_cast<float>(p(i, 3))};
+            const KeyframePose kf = keyframe_pose(keyframe, T_cam_world);
+            const std::vector<IdPoint> pts = keyframe_points(keyframe, points);
             py::gil_scoped_release release;
             return r.add_keyframe(kf, pts.data(), pts.size(), reset);
           },

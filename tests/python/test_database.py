@@ -10,12 +10,12 @@ import loopscan
 from conftest import street
 
 
-def loop_drive():
-    """The street driven twice (keyframes 0..79 and again 80..159 over the same points)."""
-    (ids, T), (pid, xyzg) = street(80, 300, seed=5)
-    ids2 = np.concatenate([ids, ids + 80])
+def loop_drive(lap=80):
+    """The street driven twice (keyframes 0..lap-1, then lap..2 lap-1 over the same points)."""
+    (ids, T), (pid, xyzg) = street(lap, 300, seed=5)
+    ids2 = np.concatenate([ids, ids + lap])
     T2 = np.concatenate([T, T])
-    pid2 = np.concatenate([pid, pid + 80])
+    pid2 = np.concatenate([pid, pid + lap])
     xyzg2 = np.concatenate([xyzg, xyzg])
     return (ids2, T2), (pid2, xyzg2)
 

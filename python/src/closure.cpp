@@ -1,0 +1,77 @@
+// The loop closer: verified loops with their relative pose (4x4) and corrected poses.
+#include <pybind11/stl.h>
+
+#include "arrays.hpp"
+#include "loopscan/closure/loop_closer.hpp"
+
+namespace loopscan::python {
+
+namespace {
+
+py::array_t<double> matrix4(const Eigen::Isometry3d& T) {
+  py::array_t<double> out({py::ssize_t(4), py::ssize_t(4)});
+  auto a = out.mutable_unchecked<2>();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) a(r, c) = T.matrix()(r, c);
+  return out;
+}
+
+}  // namespace
+
+void bind_closure(py::module_& m) {
+  using closure::KeyframeClosure;
+  using closure::Loop;
+  using closure::LoopCloser;
+  py::class_<Loop>(m, "Loop", "A verified loop candidate and its verdict.")
+      .def_readonly("query", &Loop::query, "the query keyframe")
+      .def_property_readonly("match_keyframe", [](const Loop& l) { return l.match.keyframe; })
+      .def_property_readonly("match_session", [](const Loop& l) { return l.match.session; })
+      .def_property_readonly(
+          "T_query_match", [](const Loop& l) { return matrix4(l.T_query_match); },
+          "4x4: maps the match's camera frame into the query's (p_query = T @ p_match)")
+      .def_readonly("overlap", &Loop::overlap)
+      .def_readonly("rmse_m", &Loop::rmse_m)
+      .def_property_readonly("verdict", [](const Loop& l) { return closure::to_string(l.verdict); })
+      .def_property_readonly("accepted", &Loop::accepted)
+      .def("__repr__", [](const Loop& l) {
+        char b[160];
+        std::snprintf(b, sizeof b, "<Loop: keyframe %d -> %d, %s, overlap %.2f, rmse %.3f m>",
+                      l.query, l.match.keyframe, closure::to_string(l.verdict), l.overlap,
+                      l.rmse_m);
+        return std::string(b);
+      });
+  py::class_<KeyframeClosure>(m, "KeyframeClosure", "What one keyframe brought.")
+      .def_readonly("keyframe", &KeyframeClosure::keyframe)
+      .def_readonly("described", &KeyframeClosure::described)
+      .def_readonly("candidates", &KeyframeClosure::candidates)
+      .def_readonly("verified", &KeyframeClosure::verified)
+      .def_readonly("accepted", &KeyframeClosure::accepted);
+  py::class_<LoopCloser>(m, "LoopCloser",
+                         "Online loop closing: recognition, ICP verification, pose graph.")
+      .def(py::init([](const std::string& method, const std::string& mode, double range_m) {
+             return LoopCloser(closure::LoopCloserConfig::make(parse_method_name(method),
+                                                               parse_mode_name(mode), range_m));
+           }),
+           py::arg("method") = "sc", py::arg("mode") = "default", py::arg("range_m") = 45.0)
+      .def(
+          "add_keyframe",
+          [](LoopCloser& c, int keyframe, const DoubleArray& T_cam_world, const DoubleArray& points,
+             bool reset) {
+            const KeyframePose kf = keyframe_pose(keyframe, T_cam_world);
+            const std::vector<IdPoint> pts = keyframe_points(keyframe, points);
+            py::gil_scoped_release release;
+            return c.add_keyframe(kf, pts.data(), pts.size(), reset);
+          },
+          py::arg("keyframe"), py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false)
+      .def("finish",
+           [](LoopCloser& c) {
+             py::gil_scoped_release release;
+             c.finish();
+           })
+      .def(
+          "corrected_poses", [](const LoopCloser& c) { return from_poses(c.corrected_poses()); },
+          "(ids (K,), T_cam_world (K, 3, 4)) of every keyframe so far, after the pose graph")
+      .def_property_readonly("loops", &LoopCloser::loops, "every verification, in order");
+}
+
+}  // namespace loopscan::python
