@@ -11,6 +11,7 @@ void bind_evaluate(py::module_& m);
 void bind_database(py::module_& m);
 void bind_metrics(py::module_& m);
 void bind_closure(py::module_& m);
+void bind_vo(py::module_& m);
 }  // namespace loopscan::python
 
 PYBIND11_MODULE(_loopscan, m) {
@@ -22,4 +23,5 @@ PYBIND11_MODULE(_loopscan, m) {
   loopscan::python::bind_database(m);
   loopscan::python::bind_metrics(m);
   loopscan::python::bind_closure(m);
+  loopscan::python::bind_vo(m);
 }

@@ -57,6 +57,7 @@ class StereoVo {
   std::vector<Eigen::Isometry3d> trajectory() const;
   const std::vector<int>& reset_frames() const { return resets_; }
   const StageTimes& stage_times() const { return times_; }
+  const StereoIntrinsics& camera() const { return camera_; }
 
  private:
   struct Observation {
