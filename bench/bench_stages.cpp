@@ -10,6 +10,7 @@
 
 #include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/matching/place_matcher.hpp"
+#include "loopscan/core/pipeline/recognizer.hpp"
 #include "loopscan/core/scan/camera_points.hpp"
 #include "loopscan/core/scan/scan_imitator.hpp"
 #include "loopscan/io/incoming_ids.hpp"
@@ -174,6 +175,22 @@ void BM_QueryScanContextVersions(benchmark::State& state) {
   state.counters["query_rows"] = static_cast<double>(sigs.front().rows());
 }
 
+// The streaming Recognizer (default Scan Context: imitate, describe, query, add) over every
+// fixture keyframe; the Python binding's benchmark (bench/python) times the same calls.
+void BM_RecognizerStream(benchmark::State& state) {
+  const Data& d = data();
+  for (auto _ : state) {
+    Recognizer r(RecognizerConfig::make(Method::ScanContext));
+    std::size_t next = 0;
+    for (const KeyframePose& k : d.poses) {
+      const std::size_t first = next;
+      while (next < d.points.size() && d.points[next].id <= k.id) ++next;
+      benchmark::DoNotOptimize(r.add_keyframe(k, d.points.data() + first, next - first).size());
+    }
+  }
+  per_item(state, d.poses.size());
+}
+
 constexpr int kRef = static_cast<int>(Mode::Reference), kDef = static_cast<int>(Mode::Default);
 constexpr int kCart = static_cast<int>(ScanFilter::Cartesian),
               kPol = static_cast<int>(ScanFilter::Polar);
@@ -223,6 +240,7 @@ BENCHMARK(BM_Query)
     ->Args({kDelight, kFloat, 96})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_QueryScanContextVersions)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RecognizerStream)->Unit(benchmark::kMillisecond)->Iterations(2);
 
 }  // namespace
 }  // namespace loopscan

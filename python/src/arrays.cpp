@@ -131,21 +131,17 @@ py::array_t<double> from_positions(const std::vector<Eigen::Vector3d>& positions
   return out;
 }
 
+using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 py::array_t<double> from_matrix(const Eigen::MatrixXd& m) {
   py::array_t<double> out({static_cast<py::ssize_t>(m.rows()), static_cast<py::ssize_t>(m.cols())});
-  auto a = out.mutable_unchecked<2>();
-  for (Eigen::Index r = 0; r < m.rows(); ++r)
-    for (Eigen::Index c = 0; c < m.cols(); ++c) a(r, c) = m(r, c);
+  Eigen::Map<RowMajor>(out.mutable_data(), m.rows(), m.cols()) = m;  // one vectorised copy
   return out;
 }
 
 Eigen::MatrixXd to_matrix(const DoubleArray& a, const std::string& name) {
   require_shape(a, name, {-1, -1}, "one signature: rows x values");
-  Eigen::MatrixXd m(a.shape(0), a.shape(1));
-  const auto v = a.unchecked<2>();
-  for (py::ssize_t r = 0; r < a.shape(0); ++r)
-    for (py::ssize_t c = 0; c < a.shape(1); ++c) m(r, c) = v(r, c);
-  return m;
+  return Eigen::Map<const RowMajor>(a.data(), a.shape(0), a.shape(1));
 }
 
 Method parse_method_name(const std::string& name) { return parse_method(name); }
