@@ -8,6 +8,7 @@
   and the same 880 query signatures (the CLI times the C++ query call alone).
 
     PYTHONPATH=build/python python3 bench/python/bench_bindings.py [--places 100000] [--reps 5]
+        [--readme]   (also writes the table into README.md, block python-bench)
 Needs `cmake --build build --target benchmarks loopscan` and the fixture (LOOPSCAN_SHARED).
 Prints medians and the ratios Python / C++.
 """
@@ -56,6 +57,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--places", type=int, default=100_000)
     parser.add_argument("--reps", type=int, default=5)
+    parser.add_argument("--readme", action="store_true", help="write the table into README.md")
     args = parser.parse_args()
     poses = loopscan.read_sodso_poses(str(K06 / "poses_history_file.txt"))
     points = loopscan.read_sodso_points(str(K06 / "pts_history_file.txt.gz"))
@@ -93,12 +95,15 @@ def main():
                                   str(tmp / "out")], check=True, capture_output=True, text=True)
             cpp_query.append(float(re.search(r"([0-9.]+) ms per query", out.stdout).group(1)))
     pq, cq = statistics.median(py_query), statistics.median(cpp_query)
-    print("| call | Python (ms) | C++ (ms) | Python / C++ |\n| --- | --- | --- | --- |")
-    print(f"| Recognizer.add_keyframe, k06, per keyframe | {py_stream:.3f} | {cpp_stream:.3f} | "
-          f"{py_stream / cpp_stream:.3f} |")
-    print(f"| Database.query indexed, {args.places} places, per query | {pq:.3f} | {cq:.3f} | "
-          f"{pq / cq:.3f} |")
-
+    table = ("| call | Python (ms) | C++ (ms) | Python / C++ |\n| --- | --- | --- | --- |\n"
+             f"| Recognizer.add_keyframe, k06, per keyframe | {py_stream:.3f} | {cpp_stream:.3f} "
+             f"| {py_stream / cpp_stream:.3f} |\n"
+             f"| Database.query indexed, {args.places} places, per query | {pq:.3f} | {cq:.3f} | "
+             f"{pq / cq:.3f} |\n")
+    print(table, end="")
+    if args.readme:
+        subprocess.run([str(REPO / "scripts/replace-readme-block"), "python-bench"],
+                       input=table, text=True, check=True)
 
 if __name__ == "__main__":
     main()
