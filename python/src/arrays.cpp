@@ -144,6 +144,12 @@ Eigen::MatrixXd to_matrix(const DoubleArray& a, const std::string& name) {
   return Eigen::Map<const RowMajor>(a.data(), a.shape(0), a.shape(1));
 }
 
+py::array_t<double> from_isometry(const Eigen::Isometry3d& T) {
+  py::array_t<double> out({py::ssize_t(4), py::ssize_t(4)});
+  Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(out.mutable_data()) = T.matrix();
+  return out;
+}
+
 Method parse_method_name(const std::string& name) { return parse_method(name); }
 
 Mode parse_mode_name(const std::string& name) {

@@ -7,6 +7,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <Eigen/Geometry>
+
 #include "loopscan/core/types.hpp"
 
 namespace loopscan::python {
@@ -40,6 +42,9 @@ Cloud to_cloud(const DoubleArray& xyz_gray);
 // An (N, 3) float64 array of positions and back.
 std::vector<Eigen::Vector3d> to_positions(const DoubleArray& positions, const std::string& name);
 py::array_t<double> from_positions(const std::vector<Eigen::Vector3d>& positions);
+
+// A rigid transform as a 4x4 float64 array.
+py::array_t<double> from_isometry(const Eigen::Isometry3d& T);
 
 // A row-major matrix as a new numpy array (copied: Eigen's default storage is column-major).
 py::array_t<double> from_matrix(const Eigen::MatrixXd& m);

@@ -6,17 +6,6 @@
 
 namespace loopscan::python {
 
-namespace {
-
-py::array_t<double> matrix4(const Eigen::Isometry3d& T) {
-  py::array_t<double> out({py::ssize_t(4), py::ssize_t(4)});
-  auto a = out.mutable_unchecked<2>();
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) a(r, c) = T.matrix()(r, c);
-  return out;
-}
-
-}  // namespace
 
 void bind_closure(py::module_& m) {
   using closure::KeyframeClosure;
@@ -27,7 +16,7 @@ void bind_closure(py::module_& m) {
       .def_property_readonly("match_keyframe", [](const Loop& l) { return l.match.keyframe; })
       .def_property_readonly("match_session", [](const Loop& l) { return l.match.session; })
       .def_property_readonly(
-          "T_query_match", [](const Loop& l) { return matrix4(l.T_query_match); },
+          "T_query_match", [](const Loop& l) { return from_isometry(l.T_query_match); },
           "4x4: maps the match's camera frame into the query's (p_query = T @ p_match)")
       .def_readonly("overlap", &Loop::overlap)
       .def_readonly("rmse_m", &Loop::rmse_m)

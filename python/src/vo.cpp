@@ -20,14 +20,6 @@ cv::Mat to_mat(const U8Array& image, const std::string& name, const vo::StereoIn
   return cv::Mat(cam.height, cam.width, CV_8UC1, const_cast<std::uint8_t*>(image.data())).clone();
 }
 
-py::array_t<double> matrix4(const Eigen::Isometry3d& T) {
-  py::array_t<double> out({py::ssize_t(4), py::ssize_t(4)});
-  auto a = out.mutable_unchecked<2>();
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) a(r, c) = T.matrix()(r, c);
-  return out;
-}
-
 }  // namespace
 
 void bind_vo(py::module_& m) {
@@ -36,7 +28,7 @@ void bind_vo(py::module_& m) {
   py::class_<FrameResult>(m, "FrameResult", "The VO's answer for one frame.")
       .def_readonly("frame", &FrameResult::frame)
       .def_property_readonly(
-          "T_world_cam", [](const FrameResult& r) { return matrix4(r.T_world_cam); },
+          "T_world_cam", [](const FrameResult& r) { return from_isometry(r.T_world_cam); },
           "4x4 camera-to-world, online estimate")
       .def_readonly("keyframe", &FrameResult::keyframe)
       .def_readonly("reset", &FrameResult::reset)
@@ -79,7 +71,7 @@ void bind_vo(py::module_& m) {
                 for (int c = 0; c < 3; ++c) a(i, c) = pts[i].p_world[c];
                 a(i, 3) = pts[i].intensity;
               }
-              out.append(py::make_tuple(k.frame, matrix4(k.T_world_cam), k.reset, xyz));
+              out.append(py::make_tuple(k.frame, from_isometry(k.T_world_cam), k.reset, xyz));
             }
             return out;
           },
