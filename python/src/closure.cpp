@@ -6,7 +6,6 @@
 
 namespace loopscan::python {
 
-
 void bind_closure(py::module_& m) {
   using closure::KeyframeClosure;
   using closure::Loop;
