@@ -1,5 +1,5 @@
 """Type stubs of the C++ module (kept in step by tests/python/test_stubs.py)."""
-from typing import Optional, Sequence
+from typing import Callable, Optional, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -76,7 +76,8 @@ class Database:
               retrieval: str = "indexed", candidates: int = 50, index_pool_factor: int = 8,
               stats_sample: int = 64, exclude_recent: int = 0, sessions: Sequence[int] = (),
               max_distance: float = float("inf"), uniqueness_ratio: float = 1.0,
-              distinct_gap: int = 50, threads: int = 1) -> list[Candidate]: ...
+              distinct_gap: int = 50, threads: int = 1,
+              accept: Optional[Callable[[int, int, int], bool]] = None) -> list[Candidate]: ...
     def save(self, path: str) -> None: ...
     @staticmethod
     def load(path: str) -> "Database": ...

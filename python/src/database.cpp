@@ -52,7 +52,8 @@ std::vector<Candidate> query(const Database& db, const DoubleArray& signature, i
                              const py::object& frame, const std::string& retrieval, int candidates,
                              int index_pool_factor, int stats_sample, int exclude_recent,
                              const std::vector<int>& sessions, double max_distance,
-                             double uniqueness_ratio, int distinct_gap, int threads) {
+                             double uniqueness_ratio, int distinct_gap, int threads,
+                             const py::object& accept) {
   QueryOptions o;
   if (retrieval == "exact")
     o.retrieval = Retrieval::Exact;
@@ -67,6 +68,13 @@ std::vector<Candidate> query(const Database& db, const DoubleArray& signature, i
   o.uniqueness_ratio = uniqueness_ratio;
   o.distinct_gap = distinct_gap;
   o.threads = threads;
+  if (!accept.is_none()) {  // called from the query's threads: each call takes the GIL
+    const py::function rule = accept.cast<py::function>();
+    o.accept = [rule](std::size_t index, const PlaceRef& place) {
+      py::gil_scoped_acquire gil;
+      return rule(index, place.session, place.keyframe).cast<bool>();
+    };
+  }
   const PlaceDescriptor d = descriptor(signature, frame);
   py::gil_scoped_release release;
   return db.query(d, k, o);
@@ -111,7 +119,9 @@ void bind_database(py::module_& m) {
            py::arg("exclude_recent") = 0, py::arg("sessions") = std::vector<int>{},
            py::arg("max_distance") = std::numeric_limits<double>::infinity(),
            py::arg("uniqueness_ratio") = 1.0, py::arg("distinct_gap") = 50, py::arg("threads") = 1,
-           "Up to k places, best first (QueryOptions as keywords).")
+           py::arg("accept") = py::none(),
+           "Up to k places, best first (QueryOptions as keywords; accept(index, session, "
+           "keyframe) -> bool: which places may match).")
       .def(
           "save", [](const Database& db, const std::string& path) { io::save_database(db, path); },
           py::arg("path"))

@@ -68,6 +68,10 @@ def test_database_round_trip_and_query_options(tmp_path):
     assert db.query(q, k=5, sessions=[2]) == []
     assert len(db.query(q, k=5, retrieval="exact")) == 5
     assert db.query(q, k=5, max_distance=-1e9) == []
+    even = db.query(q, k=5, retrieval="exact", accept=lambda index, session, kf: index % 2 == 0)
+    assert len(even) == 5 and all(c.index % 2 == 0 for c in even)
+    with pytest.raises(ZeroDivisionError):  # an error in the rule reaches the caller
+        db.query(q, accept=lambda index, session, kf: 1 / 0)
     with pytest.raises(ValueError, match="retrieval: expected 'indexed' or 'exact'"):
         db.query(q, retrieval="fast")
     with pytest.raises(ValueError):
