@@ -68,11 +68,17 @@ std::vector<Candidate> query(const Database& db, const DoubleArray& signature, i
   o.uniqueness_ratio = uniqueness_ratio;
   o.distinct_gap = distinct_gap;
   o.threads = threads;
-  if (!accept.is_none()) {  // called from the query's threads: each call takes the GIL
-    const py::function rule = accept.cast<py::function>();
+  if (!accept.is_none()) {
+    // A Python rule may raise, which must not happen on a worker thread; it runs with the GIL
+    // taken, and is held as a borrowed pointer (the argument outlives the call) so that no
+    // copy of the rule is destroyed while the GIL is released.
+    if (threads != 1) throw py::value_error("accept: a Python rule needs threads=1");
+    if (!PyCallable_Check(accept.ptr())) throw py::type_error("accept: expected a callable");
+    PyObject* rule = accept.ptr();
     o.accept = [rule](std::size_t index, const PlaceRef& place) {
       py::gil_scoped_acquire gil;
-      return rule(index, place.session, place.keyframe).cast<bool>();
+      return py::reinterpret_borrow<py::function>(rule)(index, place.session, place.keyframe)
+          .cast<bool>();
     };
   }
   const PlaceDescriptor d = descriptor(signature, frame);

@@ -72,6 +72,8 @@ def test_database_round_trip_and_query_options(tmp_path):
     assert len(even) == 5 and all(c.index % 2 == 0 for c in even)
     with pytest.raises(ZeroDivisionError):  # an error in the rule reaches the caller
         db.query(q, accept=lambda index, session, kf: 1 / 0)
+    with pytest.raises(ValueError, match="accept: a Python rule needs threads=1"):
+        db.query(q, retrieval="exact", threads=2, accept=lambda *a: True)
     with pytest.raises(ValueError, match="retrieval: expected 'indexed' or 'exact'"):
         db.query(q, retrieval="fast")
     with pytest.raises(ValueError):
