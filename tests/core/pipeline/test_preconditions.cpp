@@ -8,9 +8,11 @@
 #include <limits>
 
 #include "loopscan/core/database/database.hpp"
+#include "loopscan/core/parallel.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/core/scan/camera_points.hpp"
 #include "loopscan/core/scan/point_filter.hpp"
+#include "loopscan/eval/place_evaluation.hpp"
 #include "support/test_support.hpp"
 
 namespace loopscan {
@@ -130,6 +132,26 @@ TEST(Preconditions, TheDatabaseRefusesNonFiniteValuesAndNonsenseOptions) {
   EXPECT_THROW(db.query({s}, 1, o), std::invalid_argument);
   EXPECT_THROW(db.query({s}, -1), std::invalid_argument);
   EXPECT_EQ(db.query({s}, 1).size(), 1u);
+}
+
+// A worker that throws (a bad signature, a caller's progress callback) reaches the caller as
+// that exception after every thread joined, instead of ending the process.
+TEST(Preconditions, ExceptionsOnWorkerThreadsReachTheCaller) {
+  std::vector<int> done(4, 0);
+  EXPECT_THROW(run_on_threads(4,
+                              [&](int t) {
+                                done[static_cast<std::size_t>(t)] = 1;
+                                if (t == 2) throw std::invalid_argument("item of thread 2");
+                              }),
+               std::invalid_argument);
+  EXPECT_EQ(done, (std::vector<int>{1, 1, 1, 1}));
+  // Through the evaluation: a query of the wrong width, matched on two threads.
+  const Signature good = Signature::Constant(1, 2400, 0.5), bad = Signature::Constant(1, 7, 0.5);
+  const std::vector<Eigen::Vector3d> pos(3, Eigen::Vector3d::Zero());
+  eval::PlaceEvaluationOptions o;
+  o.threads = 2;
+  EXPECT_THROW(eval::evaluate_places({good, bad, good}, {good, good, good}, pos, pos, o),
+               std::invalid_argument);
 }
 
 }  // namespace
