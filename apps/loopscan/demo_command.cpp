@@ -113,10 +113,8 @@ void run_demo(const DemoArgs& a) {
     }
     mr.imitate_ms = sig[0].imitate_ms;
     mr.describe_ms = sig[0].describe_ms;
-    eval::PlaceEvaluationOptions eo;
-    eo.method = method;
+    eval::PlaceEvaluationOptions eo = eval::PlaceEvaluationOptions::make(method, Mode::Default);
     eo.threads = a.threads;
-    eo.fusion = default_fusion(Mode::Default);
     {
       StepProgress progress("  match summer vs summer", "rows");
       eo.progress = progress.callback();

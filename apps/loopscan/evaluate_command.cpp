@@ -48,22 +48,17 @@ void run_evaluate(const EvaluateArgs& a) {
                                 (queries.places.empty() ? a.signatures : a.against));
   }
 
-  eval::PlaceEvaluationOptions options;
-  options.method = method;
+  eval::PlaceEvaluationOptions options = eval::PlaceEvaluationOptions::make(method, mode);
   options.fusion = fusion;
   options.structure_weight = a.structure_weight;
   options.protocol = cross ? eval::cross_session_protocol() : eval::same_session_protocol();
   if (a.threshold_m > 0) options.protocol.threshold_m = a.threshold_m;
   if (a.mask >= 0) options.protocol.mask_width = a.mask;
-  // Reference mode: double precision and the Matlab quirks, to match the authors' numbers.
-  options.precision = mode == Mode::Reference ? Precision::Double : Precision::Float;
-  options.reference_quirks = mode == Mode::Reference;
   StepProgress progress("evaluate " + method_name(method), "difference-matrix rows");
   options.progress = progress.callback();
   const eval::PlaceEvaluation ev =
       eval::evaluate_places(queries.places, db.places, queries.positions, db.positions, options);
-  const bool two_passes = fusion == Fusion::Adaptive && method != Method::Delight;
-  progress.finish(two_passes ? " (adaptive fusion: two passes over the queries)" : "");
+  progress.finish(options.two_passes() ? " (adaptive fusion: two passes over the queries)" : "");
 
   nlohmann::json metrics = {
       {"method", method_name(method)},

@@ -14,12 +14,6 @@
 
 namespace loopscan::cli {
 
-inline Mode parse_mode(const std::string& name) {
-  if (name == "reference") return Mode::Reference;
-  if (name == "default") return Mode::Default;
-  throw std::invalid_argument("unknown mode '" + name + "' (expected reference or default)");
-}
-
 // --method of the commands that also take the image baselines (for a name that is not gist or
 // bow): the LiDAR-style method, or an error listing all five and the closest one.
 inline Method parse_method_or_image(const std::string& name) {
@@ -31,10 +25,6 @@ inline Method parse_method_or_image(const std::string& name) {
     if (!guess.empty()) message += "; did you mean '" + guess + "'?";
     throw std::invalid_argument(message + ")");
   }
-}
-
-inline std::string mode_name(Mode mode) {
-  return mode == Mode::Reference ? "reference" : "default";
 }
 
 // Option check: a finite number in [lo, hi] (CLI11's own Range lets NaN and "inf" through).

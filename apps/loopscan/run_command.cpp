@@ -120,12 +120,8 @@ void run_all(const RunArgs& a) {
         std::printf("%s: no signatures (too few keyframes for the imitation's warm-up)\n",
                     name.c_str());
       } else if (!gt_rows.empty()) {
-        eval::PlaceEvaluationOptions eo;
-        eo.method = method;
+        eval::PlaceEvaluationOptions eo = eval::PlaceEvaluationOptions::make(method, mode);
         eo.threads = std::max(1, a.threads);
-        eo.precision = mode == Mode::Reference ? Precision::Double : Precision::Float;
-        eo.reference_quirks = mode == Mode::Reference;
-        eo.fusion = default_fusion(mode);
         const std::vector<Eigen::Vector3d> positions = positions_of(sig.keyframe_ids);
         StepProgress matching("  match", "rows");
         eo.progress = matching.callback();

@@ -150,12 +150,4 @@ py::array_t<double> from_isometry(const Eigen::Isometry3d& T) {
   return out;
 }
 
-Method parse_method_name(const std::string& name) { return parse_method(name); }
-
-Mode parse_mode_name(const std::string& name) {
-  if (name == "default") return Mode::Default;
-  if (name == "reference") return Mode::Reference;
-  throw py::value_error("mode: expected 'default' or 'reference', got '" + name + "'");
-}
-
 }  // namespace loopscan::python

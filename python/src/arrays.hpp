@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "loopscan/core/signature.hpp"
 #include "loopscan/core/types.hpp"
 
 namespace loopscan::python {

@@ -37,8 +37,8 @@ void bind_closure(py::module_& m) {
   py::class_<LoopCloser>(m, "LoopCloser",
                          "Online loop closing: recognition, ICP verification, pose graph.")
       .def(py::init([](const std::string& method, const std::string& mode, double range_m) {
-             return LoopCloser(closure::LoopCloserConfig::make(parse_method_name(method),
-                                                               parse_mode_name(mode), range_m));
+             return LoopCloser(
+                 closure::LoopCloserConfig::make(parse_method(method), parse_mode(mode), range_m));
            }),
            py::arg("method") = "sc", py::arg("mode") = "default", py::arg("range_m") = 45.0)
       .def(

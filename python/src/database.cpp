@@ -103,7 +103,7 @@ void bind_database(py::module_& m) {
       .def(py::init(
                [](const std::string& method, const std::string& fusion, double structure_weight) {
                  DatabaseConfig c;
-                 c.method = parse_method_name(method);
+                 c.method = parse_method(method);
                  c.fusion = parse_fusion(fusion);
                  c.structure_weight = structure_weight;
                  return Database(c);
@@ -157,7 +157,7 @@ void bind_database(py::module_& m) {
       .def(py::init([](const std::string& method, const std::string& mode, double range_m, int k,
                        int session, int exclude_recent) {
              RecognizerConfig c =
-                 RecognizerConfig::make(parse_method_name(method), parse_mode_name(mode), range_m);
+                 RecognizerConfig::make(parse_method(method), parse_mode(mode), range_m);
              c.k = k;
              c.session = session;
              c.query.exclude_recent = exclude_recent;

@@ -12,7 +12,7 @@ py::array_t<double> describe_scan(const DoubleArray& points, const std::string& 
                                   const std::string& mode, double range_m) {
   const Cloud cloud = to_cloud(points);
   const SequenceOptions options =
-      SequenceOptions::make(parse_method_name(method), parse_mode_name(mode), range_m);
+      SequenceOptions::make(parse_method(method), parse_mode(mode), range_m);
   Signature s;
   {
     py::gil_scoped_release release;
@@ -36,9 +36,9 @@ SequenceSignatures describe_vo(const py::object& poses_in, const py::object& poi
       to_poses(poses[0].cast<IntArray>(), poses[1].cast<DoubleArray>());
   const std::vector<IdPoint> pts =
       to_points(points[0].cast<IntArray>(), points[1].cast<DoubleArray>());
-  const Mode m = parse_mode_name(mode);
+  const Mode m = parse_mode(mode);
   if (!(range_m > 0)) throw py::value_error("range_m: expected a positive range in metres");
-  SequenceOptions options = SequenceOptions::make(parse_method_name(method), m, range_m);
+  SequenceOptions options = SequenceOptions::make(parse_method(method), m, range_m);
   options.threads = threads;
   if (m == Mode::Default) {  // as `describe`: detected unless given
     options.reset_ids =

@@ -8,11 +8,17 @@ namespace loopscan::python {
 
 namespace {
 
-std::vector<Signature> to_signatures(const py::list& list, const std::string& name) {
+// Each one (rows, the method's width), as `evaluate` reads them from signatures.txt.
+std::vector<Signature> to_signatures(const py::list& list, const std::string& name, Method method) {
   std::vector<Signature> out;
   out.reserve(list.size());
-  for (std::size_t i = 0; i < list.size(); ++i)
-    out.push_back(to_matrix(list[i].cast<DoubleArray>(), name + "[" + std::to_string(i) + "]"));
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const DoubleArray a = list[i].cast<DoubleArray>();
+    const std::string item = name + "[" + std::to_string(i) + "]";
+    require_shape(a, item, {-1, signature_columns(method)},
+                  "a " + method_name(method) + " signature: rows x its width");
+    out.push_back(to_matrix(a, item));
+  }
   return out;
 }
 
@@ -22,8 +28,9 @@ eval::PlaceEvaluation evaluate(const py::list& queries, const py::list& database
                                const std::string& mode, const std::string& fusion,
                                const std::string& protocol, double threshold_m, int mask,
                                double structure_weight, int threads) {
-  const std::vector<Signature> q = to_signatures(queries, "queries");
-  const std::vector<Signature> db = to_signatures(database, "database");
+  const Method met = parse_method(method);
+  const std::vector<Signature> q = to_signatures(queries, "queries", met);
+  const std::vector<Signature> db = to_signatures(database, "database", met);
   const std::vector<Eigen::Vector3d> qp = to_positions(query_positions, "query_positions");
   const std::vector<Eigen::Vector3d> dp = to_positions(database_positions, "database_positions");
   if (qp.size() != q.size() || dp.size() != db.size())
@@ -31,10 +38,8 @@ eval::PlaceEvaluation evaluate(const py::list& queries, const py::list& database
                           std::to_string(q.size()) + ", positions " + std::to_string(qp.size()) +
                           "; database " + std::to_string(db.size()) + ", positions " +
                           std::to_string(dp.size()) + ")");
-  const Mode m = parse_mode_name(mode);
-  eval::PlaceEvaluationOptions o;
-  o.method = parse_method_name(method);
-  o.fusion = fusion.empty() ? default_fusion(m) : parse_fusion(fusion);
+  eval::PlaceEvaluationOptions o = eval::PlaceEvaluationOptions::make(met, parse_mode(mode));
+  if (!fusion.empty()) o.fusion = parse_fusion(fusion);
   o.structure_weight = structure_weight;
   if (protocol == "same")
     o.protocol = eval::same_session_protocol();
@@ -47,9 +52,6 @@ eval::PlaceEvaluation evaluate(const py::list& queries, const py::list& database
         protocol + "'");
   if (threshold_m > 0) o.protocol.threshold_m = threshold_m;
   if (mask >= 0) o.protocol.mask_width = mask;
-  // Reference mode: double precision and the Matlab quirks, as `evaluate --mode reference`.
-  o.precision = m == Mode::Reference ? Precision::Double : Precision::Float;
-  o.reference_quirks = m == Mode::Reference;
   o.threads = threads;
   py::gil_scoped_release release;
   return eval::evaluate_places(q, db, qp, dp, o);

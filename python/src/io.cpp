@@ -61,7 +61,7 @@ void bind_io(py::module_& m) {
       "read_signatures",
       [](const std::string& path, const std::string& method, const std::string& gt,
          const std::string& gt_format) {
-        LoadedSignatures s{io::load_signature_set(path, parse_method_name(method))};
+        LoadedSignatures s{io::load_signature_set(path, parse_method(method))};
         if (!gt.empty()) io::attach_positions(s.set, gt, gt_format);
         return s;
       },

@@ -34,7 +34,7 @@ def test_bad_input_raises_with_the_reason():
         loopscan.describe(np.zeros((5, 3)))
     with pytest.raises(ValueError, match=r"T_cam_world: expected an array of shape \(40, 3, 4\)"):
         loopscan.describe_sequence((poses[0], poses[1][:, :2]), points)
-    with pytest.raises(ValueError, match="mode: expected 'default' or 'reference'"):
+    with pytest.raises(ValueError, match=r"unknown mode 'fast' \(expected reference or default\)"):
         loopscan.describe_sequence(poses, points, mode="fast")
     with pytest.raises(ValueError, match=r"unknown method .sift. \(expected sc, m2dp or delight\)"):
         loopscan.describe_sequence(poses, points, method="sift")

@@ -53,4 +53,12 @@ Method parse_method(const std::string& name) {
   throw std::invalid_argument("unknown method '" + name + "' (expected sc, m2dp or delight)");
 }
 
+std::string mode_name(Mode mode) { return mode == Mode::Reference ? "reference" : "default"; }
+
+Mode parse_mode(const std::string& name) {
+  if (name == "reference") return Mode::Reference;
+  if (name == "default") return Mode::Default;
+  throw std::invalid_argument("unknown mode '" + name + "' (expected reference or default)");
+}
+
 }  // namespace loopscan

@@ -19,4 +19,8 @@ int signature_columns(Method method);
 std::string method_name(Method method);
 Method parse_method(const std::string& name);
 
+// "reference" | "default"; parse throws std::invalid_argument on anything else.
+std::string mode_name(Mode mode);
+Mode parse_mode(const std::string& name);
+
 }  // namespace loopscan

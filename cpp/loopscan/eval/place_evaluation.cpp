@@ -9,6 +9,15 @@
 
 namespace loopscan::eval {
 
+PlaceEvaluationOptions PlaceEvaluationOptions::make(Method method, Mode mode) {
+  PlaceEvaluationOptions o;
+  o.method = method;
+  o.fusion = default_fusion(mode);
+  o.precision = mode == Mode::Reference ? Precision::Double : Precision::Float;
+  o.reference_quirks = mode == Mode::Reference;
+  return o;
+}
+
 PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
                                 const std::vector<Signature>& database,
                                 const std::vector<Eigen::Vector3d>& query_positions,
@@ -21,7 +30,7 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
   const int threads = std::max(1, std::min<int>(options.threads, static_cast<int>(queries.size())));
   out.matches.resize(queries.size());
   std::vector<double> thread_ms(threads, 0.0);
-  const bool adaptive = options.fusion == Fusion::Adaptive && options.method != Method::Delight;
+  const bool adaptive = options.two_passes();
   const int mask = options.protocol.mask_width;
   // Thread 0 reports for all: its item count times the thread count is within `threads` of the
   // rows done, and the callback never runs concurrently.

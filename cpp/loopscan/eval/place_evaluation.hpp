@@ -4,9 +4,9 @@
 #include <vector>
 
 #include "loopscan/core/matching/adaptive_fusion.hpp"
-#include "loopscan/core/progress.hpp"
 #include "loopscan/core/matching/fusion.hpp"
 #include "loopscan/core/matching/place_matcher.hpp"
+#include "loopscan/core/progress.hpp"
 #include "loopscan/eval/precision_recall.hpp"
 #include "loopscan/eval/protocol.hpp"
 
@@ -23,6 +23,11 @@ struct PlaceEvaluationOptions {
   // (rows computed, rows to compute), from the calling thread; adaptive fusion counts its two
   // passes over the queries.
   ProgressFn progress;
+  // The mode's evaluation: its default fusion; reference mode in double precision with the
+  // Matlab quirks, as the authors' numbers were made.
+  static PlaceEvaluationOptions make(Method method, Mode mode);
+  // Adaptive fusion needs the whole matrix's statistics first: two passes over the queries.
+  bool two_passes() const { return fusion == Fusion::Adaptive && method != Method::Delight; }
 };
 
 struct PlaceEvaluation {
