@@ -283,11 +283,11 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
 
 nlohmann::json close_vo_run(const std::string& dir, const std::vector<KeyframePose>& poses,
                             const std::vector<IdPoint>& points, const std::vector<int>& resets,
-                            const std::optional<GroundTruth>& gt, Mode mode) {
+                            const std::optional<GroundTruth>& gt, Mode mode, bool progress) {
   const closure::LoopCloserConfig config =
       closure::LoopCloserConfig::make(Method::ScanContext, mode);
   std::filesystem::create_directories(dir);
-  return write_closure_outputs(dir, run_closer(config, poses, points, resets, true), config, gt,
+  return write_closure_outputs(dir, run_closer(config, poses, points, resets, progress), config, gt,
                                {}, 10.0);
 }
 

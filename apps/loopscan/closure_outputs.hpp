@@ -64,6 +64,6 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
 // returns metrics.json's content, with the trajectory figure's SVG under "figure_svg".
 nlohmann::json close_vo_run(const std::string& dir, const std::vector<KeyframePose>& poses,
                             const std::vector<IdPoint>& points, const std::vector<int>& resets,
-                            const std::optional<GroundTruth>& gt, Mode mode);
+                            const std::optional<GroundTruth>& gt, Mode mode, bool progress);
 
 }  // namespace loopscan::cli

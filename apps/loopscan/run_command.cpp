@@ -102,7 +102,7 @@ void run_all(const RunArgs& a) {
       SequenceOptions options = SequenceOptions::make(method, mode);
       options.threads = std::max(1, a.threads);
       if (mode == Mode::Default) options.reset_ids = detect_vo_resets(vo.run.keyframe_poses);
-      StepProgress describing("  describe", "keyframes");
+      StepProgress describing("  describe", "keyframes", a.vo.quiet);
       options.progress = describing.callback();
       SequenceSignatures sig = describe_sequence(vo.run.keyframe_poses, vo.run.points, options);
       describing.finish();
@@ -123,7 +123,7 @@ void run_all(const RunArgs& a) {
         eval::PlaceEvaluationOptions eo = eval::PlaceEvaluationOptions::make(method, mode);
         eo.threads = std::max(1, a.threads);
         const std::vector<Eigen::Vector3d> positions = positions_of(sig.keyframe_ids);
-        StepProgress matching("  match", "rows");
+        StepProgress matching("  match", "rows", a.vo.quiet);
         eo.progress = matching.callback();
         const eval::PlaceEvaluation ev =
             eval::evaluate_places(sig.signatures, sig.signatures, positions, positions, eo);
@@ -136,7 +136,7 @@ void run_all(const RunArgs& a) {
     } else {
       const io::KittiSequence sequence = io::open_kitti_sequence(a.vo.kitti);
       baselines::ImageDescriptors d;
-      StepProgress describing("  describe", "images");
+      StepProgress describing("  describe", "images", a.vo.quiet);
       if (name == "gist") {
         r.has_describe_step = false;
         d = baselines::describe_gist(
@@ -173,7 +173,7 @@ void run_all(const RunArgs& a) {
   std::optional<GroundTruth> gt;
   if (!vo.gt_path.empty()) gt = read_ground_truth(vo.gt_path, "kitti", vo.run.keyframe_poses);
   nlohmann::json closing = close_vo_run(a.out + "/closure", vo.run.keyframe_poses, vo.run.points,
-                                        vo.run.reset_frames, gt, mode);
+                                        vo.run.reset_frames, gt, mode, !a.vo.quiet);
   const std::string closing_svg = closing["figure_svg"].get<std::string>();
   closing.erase("figure_svg");
   const std::string closing_error_svg =

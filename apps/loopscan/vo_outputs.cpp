@@ -67,7 +67,7 @@ void add_vo_options(CLI::App& cmd, VoArgs& a, bool allow_euroc) {
       ->check(finite_in(1, 1e6));
   cmd.add_option("--blank-frames", a.blank_frames, "frames replaced by black images (tests resets)")
       ->check(finite_in(0, kMaxCount));
-  cmd.add_flag("--quiet", a.quiet, "no progress bar");
+  cmd.add_flag("--quiet", a.quiet, "no progress bars or per-part summary lines");
 }
 
 VoResult run_vo_and_write(const VoArgs& a) {

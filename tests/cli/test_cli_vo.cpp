@@ -54,6 +54,10 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   const CliResult all = run("run --kitti " + seq + " --out " + (d / "run").string() +
                             " --methods sc delight --segments 10 --quiet");
   ASSERT_EQ(all.code, 0) << all.output;
+  // --quiet: the numbered steps and the results, no progress or per-part summary lines.
+  EXPECT_NE(all.output.find("[2/5] sc: describe"), std::string::npos) << all.output;
+  for (const char* chatter : {"close loops:", "  describe:", "  match:", "stereo VO:"})
+    EXPECT_EQ(all.output.find(chatter), std::string::npos) << chatter << "\n" << all.output;
   for (const char* f :
        {"report.html", "summary.json", "vo/vo.json", "sc/signatures.txt", "delight/signatures.txt"})
     EXPECT_TRUE(fs::exists(d / "run" / f)) << f;
