@@ -38,7 +38,7 @@ void run_close(const CloseArgs& a) {
   const std::vector<IdPoint> points = io::read_sodso_points(a.points);
   std::optional<GroundTruth> gt;
   if (!a.gt.empty()) gt = read_ground_truth(a.gt, a.gt_format, poses);
-  const std::vector<int> resets = !a.reset_ids.empty() ? io::read_incoming_ids(a.reset_ids)
+  const std::vector<int> resets = !a.reset_ids.empty()    ? io::read_incoming_ids(a.reset_ids)
                                   : mode == Mode::Default ? detect_vo_resets(poses)
                                                           : std::vector<int>{};
   std::optional<SavedMap> map;
@@ -46,18 +46,20 @@ void run_close(const CloseArgs& a) {
     map.emplace();
     map->places = io::load_database(a.map, &config.recognition.database, &map->clouds);
     if (map->clouds.empty() && map->places.size() > 0) {
-      throw io::InputError(a.map, 0, "place clouds (this map was saved without them: build it "
-                                     "with `loopscan close`)");
+      throw io::InputError(a.map, 0,
+                           "place clouds (this map was saved without them: build it "
+                           "with `loopscan close`)");
     }
     for (std::size_t i = 0; i < map->places.size(); ++i) {
-      config.recognition.session = std::max(config.recognition.session, map->places.place(i).session + 1);
+      config.recognition.session =
+          std::max(config.recognition.session, map->places.place(i).session + 1);
     }
   }
   std::optional<GroundTruth> map_gt;
   if (!a.map_gt.empty()) map_gt = read_ground_truth(a.map_gt, a.gt_format, {});
-  const ClosureRun run =
-      run_closer(config, poses, points, resets, !a.quiet, map ? &*map : nullptr);
-  const nlohmann::json m = write_closure_outputs(a.out, run, config, gt, map_gt, a.true_within_m);
+  const ClosureRun run = run_closer(config, poses, points, resets, !a.quiet, map ? &*map : nullptr);
+  const nlohmann::json m =
+      write_closure_outputs(a.out, run, config, gt, map_gt, a.true_within_m).metrics;
   if (a.write_points) {
     io::write_sodso_points(a.out + "/pts_closed.txt",
                            closure::reexpress_points(points, run.input, run.closed));

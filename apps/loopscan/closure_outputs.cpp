@@ -141,7 +141,7 @@ GroundTruth read_ground_truth(const std::string& path, const std::string& format
   return gt;
 }
 
-nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& run,
+ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& run,
                                      const closure::LoopCloserConfig& config,
                                      const std::optional<GroundTruth>& gt,
                                      const std::optional<GroundTruth>& map_gt,
@@ -276,12 +276,10 @@ nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& r
   io::write_file_atomic(dir + "/trajectory.svg", figures.map);
   if (!figures.error.empty()) io::write_file_atomic(dir + "/error.svg", figures.error);
   io::write_file_atomic(dir + "/metrics.json", m.dump(1) + "\n");
-  m["figure_svg"] = figures.map;
-  if (!figures.error.empty()) m["error_figure_svg"] = figures.error;
-  return m;
+  return {m, figures};
 }
 
-nlohmann::json close_vo_run(const std::string& dir, const std::vector<KeyframePose>& poses,
+ClosureOutputs close_vo_run(const std::string& dir, const std::vector<KeyframePose>& poses,
                             const std::vector<IdPoint>& points, const std::vector<int>& resets,
                             const std::optional<GroundTruth>& gt, Mode mode, bool progress) {
   const closure::LoopCloserConfig config =

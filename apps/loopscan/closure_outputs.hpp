@@ -52,17 +52,26 @@ struct GroundTruth {
 GroundTruth read_ground_truth(const std::string& path, const std::string& format,
                               const std::vector<KeyframePose>& poses);
 
-// Writes every output into `dir` (map.db included) and returns metrics.json's content.
+struct ClosureFigures {
+  std::string map;    // trajectories seen from above, loops as segments
+  std::string error;  // APE over distance, before and after (empty without ground truth)
+};
+
+struct ClosureOutputs {
+  nlohmann::json metrics;  // metrics.json's content
+  ClosureFigures figures;  // also written as trajectory.svg and error.svg
+};
+
+// Writes every output into `dir` (map.db included) and returns them for a report.
 // `map_gt`: ground truth of the saved map's keyframes (cross-session loops), else `gt`.
-nlohmann::json write_closure_outputs(const std::string& dir, const ClosureRun& run,
+ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& run,
                                      const closure::LoopCloserConfig& config,
                                      const std::optional<GroundTruth>& gt,
                                      const std::optional<GroundTruth>& map_gt,
                                      double true_within_m);
 
-// `run`'s loop-closing step: Scan Context in `mode` over the VO's keyframes, files into `dir`;
-// returns metrics.json's content, with the trajectory figure's SVG under "figure_svg".
-nlohmann::json close_vo_run(const std::string& dir, const std::vector<KeyframePose>& poses,
+// `run`'s loop-closing step: Scan Context in `mode` over the VO's keyframes, files into `dir`.
+ClosureOutputs close_vo_run(const std::string& dir, const std::vector<KeyframePose>& poses,
                             const std::vector<IdPoint>& points, const std::vector<int>& resets,
                             const std::optional<GroundTruth>& gt, Mode mode, bool progress);
 

@@ -130,14 +130,11 @@ DemoClosing close_demo_sessions(const std::string& out, const LoadedTrajectory& 
     std::filesystem::create_directories(dir);
     ClosureRun run = run_closer(config, sessions[i].vo.poses, sessions[i].vo.points, {}, true,
                                 i == 0 ? nullptr : &map);
-    nlohmann::json m = write_closure_outputs(dir, run, config, gt, {}, 10.0);
-    d.figures.push_back(
-        {std::string("Loop closing, ") + names[i], m["figure_svg"].get<std::string>()});
-    if (m.contains("error_figure_svg")) {
-      d.figures.push_back(
-          {std::string("Position error, ") + names[i], m["error_figure_svg"].get<std::string>()});
-      m.erase("error_figure_svg");
-    }
+    const ClosureOutputs outputs = write_closure_outputs(dir, run, config, gt, {}, 10.0);
+    const nlohmann::json& m = outputs.metrics;
+    d.figures.push_back({std::string("Loop closing, ") + names[i], outputs.figures.map});
+    if (!outputs.figures.error.empty())
+      d.figures.push_back({std::string("Position error, ") + names[i], outputs.figures.error});
     const nlohmann::json& l = m["loops"];
     d.table.rows.push_back({names[i], std::to_string(l["accepted"].get<int>()),
                             std::to_string(l["false_accepted"].get<int>()),

@@ -13,11 +13,6 @@
 
 namespace loopscan::cli {
 
-struct ClosureFigures {
-  std::string map;    // trajectories seen from above, loops as segments
-  std::string error;  // APE over distance, before and after (empty without ground truth)
-};
-
 // Trajectories before and after, aligned to the ground truth (without it, to the input's
 // frame), accepted loops as segments, false ones (loop_true[i] == 0) in red; with ground truth
 // evo-style: the closed trajectory coloured by its error, and the error over distance.

@@ -172,13 +172,10 @@ void run_all(const RunArgs& a) {
   steps.next("loop closing (Scan Context, verified, pose graph)");
   std::optional<GroundTruth> gt;
   if (!vo.gt_path.empty()) gt = read_ground_truth(vo.gt_path, "kitti", vo.run.keyframe_poses);
-  nlohmann::json closing = close_vo_run(a.out + "/closure", vo.run.keyframe_poses, vo.run.points,
-                                        vo.run.reset_frames, gt, mode, !a.vo.quiet);
-  const std::string closing_svg = closing["figure_svg"].get<std::string>();
-  closing.erase("figure_svg");
-  const std::string closing_error_svg =
-      closing.contains("error_figure_svg") ? closing["error_figure_svg"].get<std::string>() : "";
-  closing.erase("error_figure_svg");
+  const ClosureOutputs closure =
+      close_vo_run(a.out + "/closure", vo.run.keyframe_poses, vo.run.points, vo.run.reset_frames,
+                   gt, mode, !a.vo.quiet);
+  const nlohmann::json& closing = closure.metrics;
   steps.next("report");
   std::printf("\n%-8s %8s %8s %8s %9s %7s %11s %11s %10s\n", "method", "AUC", "R@100P", "F1max",
               "GT loops", "places", "prepare ms", "describe ms", "query ms");
@@ -219,9 +216,10 @@ void run_all(const RunArgs& a) {
     page.figures.push_back(recognition_figure(r, gt_rows));
     break;
   }
-  page.figures.push_back({"Loop closing: keyframes before and after, accepted loops", closing_svg});
-  if (!closing_error_svg.empty())
-    page.figures.push_back({"Loop closing: position error along the drive", closing_error_svg});
+  page.figures.push_back(
+      {"Loop closing: keyframes before and after, accepted loops", closure.figures.map});
+  if (!closure.figures.error.empty())
+    page.figures.push_back({"Loop closing: position error along the drive", closure.figures.error});
   if (!curves.empty())
     page.figures.push_back({"Precision-recall", report::pr_curve_svg(curves, "Precision-recall")});
   io::write_file_atomic(a.out + "/summary.json", summary.dump(1) + "\n");

@@ -27,13 +27,15 @@ void run_slam(const SlamArgs& a) {
   std::optional<GroundTruth> gt;
   if (!vo.gt_path.empty()) gt = read_ground_truth(vo.gt_path, "kitti", vo.run.keyframe_poses);
   std::printf("[2/2] loop closing over %zu keyframes\n", vo.run.keyframe_poses.size());
-  const ClosureRun run = run_closer(config, vo.run.keyframe_poses, vo.run.points,
-                                    vo.run.reset_frames, !a.vo.quiet);
-  const nlohmann::json m = write_closure_outputs(a.vo.out, run, config, gt, {}, a.true_within_m);
+  const ClosureRun run =
+      run_closer(config, vo.run.keyframe_poses, vo.run.points, vo.run.reset_frames, !a.vo.quiet);
+  const nlohmann::json m =
+      write_closure_outputs(a.vo.out, run, config, gt, {}, a.true_within_m).metrics;
   std::printf("loops: %d accepted", m["loops"]["accepted"].get<int>());
   if (gt) {
-    std::printf(" (%d false); keyframe ATE %.3f m -> %.3f m", m["loops"]["false_accepted"].get<int>(),
-                m["ate_before_m"].get<double>(), m["ate_after_m"].get<double>());
+    std::printf(" (%d false); keyframe ATE %.3f m -> %.3f m",
+                m["loops"]["false_accepted"].get<int>(), m["ate_before_m"].get<double>(),
+                m["ate_after_m"].get<double>());
   }
   std::printf("; loop closing %.2f ms per keyframe -> %s\n",
               m["ms_per_keyframe"]["total"].get<double>(), shown(a.vo.out).c_str());
