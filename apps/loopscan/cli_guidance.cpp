@@ -20,10 +20,11 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
-// Lists of values also split at commas, but not free text: legend names may contain commas.
+// Lists of values also split at commas, unless the option chose its own delimiter (free text
+// such as legend names, which may contain commas).
 void comma_lists(CLI::App* app) {
   for (CLI::Option* o : app->get_options()) {
-    if (o->get_items_expected_max() > 1 && o->get_name() != "--names") o->delimiter(',');
+    if (o->get_items_expected_max() > 1 && o->get_delimiter() == '\0') o->delimiter(',');
   }
   for (CLI::App* sub : app->get_subcommands({})) comma_lists(sub);
 }

@@ -121,8 +121,10 @@ void add_plot_command(CLI::App& app) {
       ->required();
   cmd->add_option("--x", args->x, "column for the x axis")->required();
   cmd->add_option("--y", args->y, "one or more columns, one line each")->required();
+  // Legend texts may contain commas: one name per argument (never split at a comma).
   cmd->add_option("--names", args->names,
-                  "legend names, one per --y column (default: the columns)");
+                  "legend names, one per --y column (default: the columns)")
+      ->delimiter('\n');
   cmd->add_option("--out", args->out, "SVG file to write")->required();
   cmd->add_option("--title", args->title, "figure title");
   cmd->add_option("--x-label", args->x_label, "x axis label (default: the column name)");
