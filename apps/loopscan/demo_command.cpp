@@ -15,13 +15,13 @@
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
-#include "loopscan/io/matrix_text.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/pr_plot.hpp"
 #include "options.hpp"
 #include "output_sets.hpp"
 #include "progress.hpp"
 #include "reproduce_script.hpp"
+#include "signature_outputs.hpp"
 #include "simulation_setup.hpp"
 
 namespace loopscan::cli {
@@ -102,13 +102,12 @@ void run_demo(const DemoArgs& a) {
     SequenceSignatures sig[2];
     std::vector<Eigen::Vector3d> pos[2];
     for (int i = 0; i < 2; ++i) {
-      options.reset_ids = detect_vo_resets(sessions[i].vo.poses);  // as `describe` does
       StepProgress progress(std::string("  describe ") + names[i], "keyframes");
       options.progress = progress.callback();
-      sig[i] = describe_sequence(sessions[i].vo.poses, sessions[i].vo.points, options);
+      sig[i] =
+          describe_as_written(sessions[i].vo.poses, sessions[i].vo.points, options, Mode::Default);
       progress.finish();
       options.progress = {};  // `progress` ends here; `options` lives on
-      for (Signature& s : sig[i].signatures) s = io::as_written(s);  // signatures.txt's digits
       for (int id : sig[i].keyframe_ids) pos[i].push_back(sessions[i].gt_positions[id]);
     }
     mr.imitate_ms = sig[0].imitate_ms;

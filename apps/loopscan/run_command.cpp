@@ -19,7 +19,6 @@
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/incoming_ids.hpp"
-#include "loopscan/io/matrix_text.hpp"
 #include "loopscan/io/sodso.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/report/plot.hpp"
@@ -101,13 +100,11 @@ void run_all(const RunArgs& a) {
       const Method method = parse_method(name);
       SequenceOptions options = SequenceOptions::make(method, mode);
       options.threads = std::max(1, a.threads);
-      if (mode == Mode::Default) options.reset_ids = detect_vo_resets(vo.run.keyframe_poses);
       StepProgress describing("  describe", "keyframes", a.vo.quiet);
       options.progress = describing.callback();
-      SequenceSignatures sig = describe_sequence(vo.run.keyframe_poses, vo.run.points, options);
+      const SequenceSignatures sig =
+          describe_as_written(vo.run.keyframe_poses, vo.run.points, options, mode);
       describing.finish();
-      // Evaluated at signatures.txt's 10 digits, so that `evaluate` on it gives the same digits.
-      for (Signature& s : sig.signatures) s = io::as_written(s);
       write_signatures(dir, sig, method);
       r.keyframe_ids = sig.keyframe_ids;
       r.prepare_ms = sig.imitate_ms;

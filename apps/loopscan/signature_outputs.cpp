@@ -32,4 +32,13 @@ void write_signatures(const std::string& dir, const SequenceSignatures& result, 
   io::write_matrix_text(dir + "/frames.txt", frames);
 }
 
+SequenceSignatures describe_as_written(const std::vector<KeyframePose>& poses,
+                                       const std::vector<IdPoint>& points, SequenceOptions options,
+                                       Mode mode) {
+  if (mode == Mode::Default) options.reset_ids = detect_vo_resets(poses);
+  SequenceSignatures result = describe_sequence(poses, points, options);
+  for (Signature& s : result.signatures) s = io::as_written(s);
+  return result;
+}
+
 }  // namespace loopscan::cli

@@ -9,4 +9,11 @@ namespace loopscan::cli {
 
 void write_signatures(const std::string& dir, const SequenceSignatures& result, Method method);
 
+// What `describe` computes from these files (default mode: the VO resets it detects), with the
+// signatures at signatures.txt's digits: numbers printed from them are the ones `evaluate`
+// recomputes from the written files (demo and run's reproduce.sh).
+SequenceSignatures describe_as_written(const std::vector<KeyframePose>& poses,
+                                       const std::vector<IdPoint>& points, SequenceOptions options,
+                                       Mode mode);
+
 }  // namespace loopscan::cli
