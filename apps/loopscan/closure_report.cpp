@@ -36,16 +36,11 @@ ClosureFigures closure_figures(const ClosureRun& run, const std::optional<Ground
   std::vector<Eigen::Vector3d> before_aligned, after_aligned;
   for (const Eigen::Vector3d& p : before) before_aligned.push_back(A * p);
   for (const Eigen::Vector3d& p : after) after_aligned.push_back(B * p);
-  const auto [ax, az] = report::top_view_axes(reference);
-  const auto series = [&, ax = ax, az = az](const std::string& name,
-                                            const std::vector<Eigen::Vector3d>& p,
-                                            const std::string& color) {
-    report::Series s{name, {}, {}, color};
-    for (const Eigen::Vector3d& w : p) {
-      s.x.push_back(w[ax]);
-      s.y.push_back(w[az]);
-    }
-    return s;
+  const std::pair<int, int> axes = report::top_view_axes(reference);
+  const auto [ax, az] = axes;
+  const auto series = [&axes](const std::string& name, const std::vector<Eigen::Vector3d>& p,
+                              const std::string& color) {
+    return report::top_view_series(name, p, axes, color);
   };
   std::unordered_map<int, std::size_t> at;
   for (std::size_t i = 0; i < run.closed.size(); ++i) at[run.closed[i].id] = i;

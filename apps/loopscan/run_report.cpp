@@ -30,10 +30,11 @@ std::vector<report::Figure> trajectory_figures(const VoResult& vo,
   std::vector<Eigen::Vector3d> estimate;
   for (const Eigen::Isometry3d& T : vo.run.trajectory) estimate.push_back(anchor * T.translation());
   if (gt.empty()) {
-    report::Series s{"VO", {}, {}, "#d62728"};
-    for (const Eigen::Vector3d& p : estimate) s.x.push_back(p.x()), s.y.push_back(p.z());
-    return {{"Trajectory seen from above (x, z)",
-             report::map_plot_svg({s}, "VO trajectory (no ground truth)")}};
+    const std::pair<int, int> axes = report::top_view_axes(estimate);
+    return {{"Trajectory seen from above",
+             report::map_plot_svg({report::top_view_series("VO", estimate, axes, "#d62728")},
+                                  "VO trajectory (no ground truth)", report::axis_label(axes.first),
+                                  report::axis_label(axes.second))}};
   }
   report::TrajectoryFigure t;
   t.title = "VO trajectory, anchored at the first frame";

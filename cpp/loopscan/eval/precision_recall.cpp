@@ -30,12 +30,17 @@ double trapezoid_auc(const std::vector<PrPoint>& curve) {
   return area;
 }
 
-double recall_at_full_precision(const std::vector<PrPoint>& curve) {
-  double recall = 0.0;
-  for (const PrPoint& p : curve) {
-    if (p.precision == 1.0) recall = p.recall;
+std::size_t full_precision_count(const std::vector<PrPoint>& curve) {
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < curve.size(); ++k) {
+    if (curve[k].precision == 1.0) n = k + 1;
   }
-  return recall;
+  return n;
+}
+
+double recall_at_full_precision(const std::vector<PrPoint>& curve) {
+  const std::size_t n = full_precision_count(curve);
+  return n > 0 ? curve[n - 1].recall : 0.0;
 }
 
 double f1_max(const std::vector<PrPoint>& curve) {

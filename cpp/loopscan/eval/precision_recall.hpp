@@ -48,6 +48,9 @@ void walk_ranking(PrResult& result);
 double trapezoid_auc(const std::vector<PrPoint>& curve);
 // Recall at the last point whose precision is exactly 1 (0 if none).
 double recall_at_full_precision(const std::vector<PrPoint>& curve);
+// Points of the curve up to and including the last one at precision exactly 1: the ranked
+// matches accepted at 100 % precision (0 if none).
+std::size_t full_precision_count(const std::vector<PrPoint>& curve);
 // max 2PR/(P+R), a point with P+R == 0 counting as 0.
 double f1_max(const std::vector<PrPoint>& curve);
 

@@ -47,15 +47,12 @@ std::string colorbar_svg(double x, double y, double w, double h, double lo, doub
   const Ticks ticks = nice_ticks(lo, hi, 4);
   for (const double v : ticks.values) {
     const double ty = y + h - (v - lo) / (hi - lo) * h;
-    out += "<line x1=\"" + svg_px(x + w) + "\" y1=\"" + svg_px(ty) + "\" x2=\"" +
-           svg_px(x + w + 4) + "\" y2=\"" + svg_px(ty) + "\" stroke=\"black\"/>\n";
-    out += "<text x=\"" + svg_px(x + w + 7) + "\" y=\"" + svg_px(ty) + "\" dy=\"0.32em\">" +
-           format_trimmed(v, ticks.decimals) + "</text>\n";
+    out += svg_line(x + w, ty, x + w + 4, ty, " stroke=\"black\"");
+    out += svg_text(x + w + 7, ty, "start", format_trimmed(v, ticks.decimals), " dy=\"0.32em\"");
   }
   const double lx = x + w + 48, ly = y + h / 2;
-  out += "<text x=\"" + svg_px(lx) + "\" y=\"" + svg_px(ly) +
-         "\" text-anchor=\"middle\" transform=\"rotate(90 " + svg_px(lx) + " " + svg_px(ly) +
-         ")\">" + xml_escape(label) + "</text>\n";
+  out += svg_text(lx, ly, "middle", label,
+                  " transform=\"rotate(90 " + svg_px(lx) + " " + svg_px(ly) + ")\"");
   return out + "</g>\n";
 }
 

@@ -14,7 +14,6 @@ constexpr double kMarginRight = 20.0;
 constexpr double kMarginTop = 36.0;
 constexpr double kMarginBottom = 52.0;
 constexpr double kPadFraction = 0.05;
-constexpr double kLegendRow = 18.0;
 constexpr double kColorbarWidth = 90.0;
 
 struct Range {
@@ -68,15 +67,16 @@ Ticks nice_ticks(double lo, double hi, int target) {
   return ticks;
 }
 
+int tick_target(double pixels) { return std::clamp(static_cast<int>(pixels / 100.0 + 0.5), 2, 10); }
+
 PlotFrame make_frame(const std::vector<Series>& series, const PlotOptions& options) {
   PlotFrame f;
-  bool value_colored = false;
   for (const Series& s : series) {
     f.legend_rows += s.name.empty() ? 0 : 1;
-    value_colored = value_colored || !s.value.empty();
+    f.colorbar = f.colorbar || (!s.value.empty() && !options.points);  // markers: palette
   }
-  const double legend_h = f.legend_rows > 0 ? 10.0 + kLegendRow * f.legend_rows : 0.0;
-  const double colorbar_w = value_colored ? kColorbarWidth : 0.0;
+  const double legend_h = f.legend_rows > 0 ? 10.0 + PlotFrame::kLegendRow * f.legend_rows : 0.0;
+  const double colorbar_w = f.colorbar ? kColorbarWidth : 0.0;
   // A canvas too small for the margins would invert the plot area.
   f.width = std::max(options.width, 160) + colorbar_w;
   f.height = std::max(options.height, 120) + legend_h;
@@ -84,6 +84,7 @@ PlotFrame make_frame(const std::vector<Series>& series, const PlotOptions& optio
   f.top = kMarginTop;
   f.right = f.width - kMarginRight - colorbar_w;
   f.bottom = f.height - kMarginBottom - legend_h;
+  f.legend_top = f.bottom + kMarginBottom - 2.0;
 
   Range x{options.x_min, options.x_max};
   Range y{options.y_min, options.y_max};

@@ -16,12 +16,19 @@ struct Ticks {
 // 0, 0.2, ..., 1. Empty for a non-finite or empty range.
 Ticks nice_ticks(double lo, double hi, int target = 5);
 
+// Tick intervals for an axis this many pixels long: about one per 100 px, so labels never
+// collide (2 to 10).
+int tick_target(double pixels);
+
 struct PlotFrame {
   double width = 0, height = 0;                       // SVG canvas
   double left = 0, top = 0, right = 0, bottom = 0;    // plot area in pixels (top < bottom)
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;  // final data ranges
   double tick_x_min = 0, tick_x_max = 1, tick_y_min = 0, tick_y_max = 1;  // ranges given ticks
-  int legend_rows = 0;  // named series, listed below the plot
+  int legend_rows = 0;    // named series, listed below the plot
+  double legend_top = 0;  // y of the legend box (under the x-axis label)
+  bool colorbar = false;  // a value-coloured line series: a colour bar right of the plot
+  static constexpr double kLegendRow = 18.0;  // pixels per legend entry
   double to_px_x(double x) const { return left + (x - x_min) / (x_max - x_min) * (right - left); }
   double to_px_y(double y) const { return bottom - (y - y_min) / (y_max - y_min) * (bottom - top); }
 };

@@ -37,9 +37,8 @@ std::string heatmap_svg(const Eigen::MatrixXd& values, const HeatmapOptions& o) 
          "\" width=\"" + svg_px(w) + "\" height=\"" + svg_px(h) +
          "\" fill=\"none\" stroke=\"black\"/>\n";
   // Ticks in axis units: value v sits at the fraction (v - first) / (last - first).
-  const auto ticks_along = [&](double first, double last, double pixels) {
-    return nice_ticks(std::min(first, last), std::max(first, last),
-                      std::clamp(static_cast<int>(pixels / 80.0 + 0.5), 2, 10));
+  const auto ticks_along = [](double first, double last, double pixels) {
+    return nice_ticks(std::min(first, last), std::max(first, last), tick_target(pixels));
   };
   const Ticks xt = ticks_along(o.x_first, o.x_last, w);
   for (const double v : xt.values) {

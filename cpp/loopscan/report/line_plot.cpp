@@ -38,9 +38,6 @@ std::string series_color(const Series& s, std::size_t index) {
   return s.color.empty() ? kPalette[index % kPalette.size()] : s.color;
 }
 
-// Roughly one tick interval per 100 px keeps labels from colliding.
-int tick_target(double pixels) { return std::clamp(static_cast<int>(pixels / 100.0 + 0.5), 2, 10); }
-
 // Liang-Barsky: clips segment (x0,y0)-(x1,y1) to the plot area; false if nothing remains.
 bool clip_segment(const PlotFrame& f, double& x0, double& y0, double& x1, double& y1) {
   const double dx = x1 - x0;
@@ -114,19 +111,16 @@ std::string line_path(const Series& s, const PlotFrame& f) {
 std::string value_paths(const Series& s, const PlotFrame& f, double lo, double hi) {
   constexpr int kSteps = 24;
   std::array<std::string, kSteps> d;
-  std::array<bool, kSteps> pen_here{};  // the step's path ends where the next segment starts
-  int last_step = -1;
+  int last_step = -1;  // the step whose path ends where a joined segment starts
   for_each_segment(s, f,
                    [&](std::size_t i, double x0, double y0, double x1, double y1, bool joined) {
                      const double v = i < s.value.size() ? 0.5 * (s.value[i - 1] + s.value[i]) : lo;
                      double t = hi > lo ? (v - lo) / (hi - lo) : 0.0;
                      t = std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.0;  // before the cast
                      const int k = std::min(static_cast<int>(t * kSteps), kSteps - 1);
-                     if (!(joined && last_step == k && pen_here[k]))
+                     if (!(joined && last_step == k))
                        d[k] += (d[k].empty() ? "M" : " M") + svg_px(x0) + "," + svg_px(y0);
                      d[k] += " L" + svg_px(x1) + "," + svg_px(y1);
-                     pen_here.fill(false);
-                     pen_here[k] = true;
                      last_step = k;
                    });
   std::string out;
@@ -182,19 +176,14 @@ std::string axes(const PlotFrame& f) {
 
 // Legend below the x-axis label: outside the data, whatever the data.
 std::string legend(const std::vector<Series>& series, const PlotFrame& f, bool points) {
-  std::size_t rows = 0;
+  if (f.legend_rows == 0) return "";
   std::size_t max_chars = 0;
-  for (const Series& s : series) {
-    if (s.name.empty()) continue;
-    ++rows;
-    max_chars = std::max(max_chars, utf8_length(s.name));
-  }
-  if (rows == 0) return "";
-  const double row_h = 18.0;
+  for (const Series& s : series) max_chars = std::max(max_chars, utf8_length(s.name));
+  const double row_h = PlotFrame::kLegendRow;
   const double w = 40.0 + 7.0 * static_cast<double>(max_chars);
-  const double h = 8.0 + row_h * static_cast<double>(rows);
+  const double h = 8.0 + row_h * f.legend_rows;
   const double x = f.left;
-  double y = f.bottom + 50.0;
+  double y = f.legend_top;
   std::string out = "<g class=\"legend\">\n<rect x=\"" + svg_px(x) + "\" y=\"" + svg_px(y) +
                     "\" width=\"" + svg_px(w) + "\" height=\"" + svg_px(h) +
                     "\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#999999\"/>\n";
@@ -202,7 +191,8 @@ std::string legend(const std::vector<Series>& series, const PlotFrame& f, bool p
   for (std::size_t i = 0; i < series.size(); ++i) {
     const Series& s = series[i];
     if (s.name.empty()) continue;
-    const std::string color = s.value.empty() ? xml_escape(series_color(s, i)) : scale_color(0.5);
+    const std::string color =
+        s.value.empty() || points ? xml_escape(series_color(s, i)) : scale_color(0.5);
     if (points) {
       out += "<circle cx=\"" + svg_px(x + 16) + "\" cy=\"" + svg_px(y) + "\" r=\"3\" fill=\"" +
              color + "\"/>\n";
@@ -258,7 +248,7 @@ std::string line_plot_svg(const std::vector<Series>& series, const PlotOptions& 
   svg += svg_text(18, mid_y, "middle", options.y_label,
                   " transform=\"rotate(-90 18 " + svg_px(mid_y) + ")\"");
   svg += legend(series, f, options.points);
-  if (f.width - f.right > 60.0) {  // make_frame left room for a colour bar
+  if (f.colorbar) {
     svg += colorbar_svg(f.right + 16, f.top, 14, f.bottom - f.top, lo, hi, options.color_label);
   }
   svg += "</svg>\n";

@@ -22,29 +22,21 @@ void add_cross(Series& s, double x, double y, double r) {
 }  // namespace
 
 std::size_t accepted_at_full_precision(const eval::PrResult& pr) {
-  std::size_t n = 0;
-  for (std::size_t k = 0; k < pr.curve.size(); ++k) {
-    if (pr.curve[k].precision == 1.0) n = k + 1;
-  }
-  return std::min(n, pr.ranked.size());
+  return std::min(eval::full_precision_count(pr.curve), pr.ranked.size());
 }
 
 std::string recognition_map_svg(const RecognitionMap& map, const eval::PrResult& pr) {
   const std::pair<int, int> top = top_view_axes(map.db_pos);
   const int ax = map.x_axis >= 0 ? map.x_axis : top.first;
   const int ay = map.y_axis >= 0 ? map.y_axis : top.second;
-  Series route{"route", {}, {}, "#c8c8c8"};
+  Series route = top_view_series("route", map.db_pos, {ax, ay}, "#c8c8c8");
   route.width = 3.0;
-  for (const Eigen::Vector3d& p : map.db_pos) {
-    route.x.push_back(p[ax]);
-    route.y.push_back(p[ay]);
-  }
   // Marker size from the route's extent, so crosses read the same on any map.
   double extent = 1.0;
-  if (!map.db_pos.empty()) {
-    Eigen::Vector3d lo = map.db_pos[0], hi = lo;
-    for (const Eigen::Vector3d& p : map.db_pos) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    extent = std::max({hi[ax] - lo[ax], hi[ay] - lo[ay], 1.0});
+  if (!route.x.empty()) {
+    const auto [x_lo, x_hi] = std::minmax_element(route.x.begin(), route.x.end());
+    const auto [y_lo, y_hi] = std::minmax_element(route.y.begin(), route.y.end());
+    extent = std::max({*x_hi - *x_lo, *y_hi - *y_lo, 1.0});
   }
   const double r = 0.008 * extent;
 

@@ -40,32 +40,31 @@ std::pair<int, int> top_view_axes(const std::vector<Eigen::Vector3d>& positions)
   return {0, 1};
 }
 
+Series top_view_series(const std::string& name, const std::vector<Eigen::Vector3d>& positions,
+                       std::pair<int, int> axes, const std::string& color) {
+  Series s{name, {}, {}, color};
+  for (const Eigen::Vector3d& v : positions) {
+    s.x.push_back(v[axes.first]);
+    s.y.push_back(v[axes.second]);
+  }
+  return s;
+}
+
 const char* axis_label(int axis) {
   static const char* const labels[] = {"x [m]", "y [m]", "z [m]"};
   return labels[axis];
 }
 
-namespace {
-
-Series top_view(const std::string& name, const std::vector<Eigen::Vector3d>& p, int ax, int ay,
-                const std::string& color) {
-  Series s{name, {}, {}, color};
-  for (const Eigen::Vector3d& v : p) {
-    s.x.push_back(v[ax]);
-    s.y.push_back(v[ay]);
-  }
-  return s;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::string trajectory_error_map_svg(const TrajectoryFigure& f) {
   const TrajectoryErrors e = trajectory_errors(f.gt, f.estimate);
-  const auto [ax, ay] = top_view_axes(f.gt);
-  Series truth = top_view("ground truth", f.gt, ax, ay, "#222222");
+  const std::pair<int, int> axes = top_view_axes(f.gt);
+  const auto [ax, ay] = axes;
+  Series truth = top_view_series("ground truth", f.gt, axes, "#222222");
   truth.dash = "6,4";
   truth.width = 1.2;
-  Series estimate = top_view(f.estimate_name + " (colour: APE)", f.estimate, ax, ay, "");
+  Series estimate = top_view_series(f.estimate_name + " (colour: APE)", f.estimate, axes);
   estimate.value = e.error_m;
   estimate.width = 2.5;
   std::vector<Series> all = {truth};

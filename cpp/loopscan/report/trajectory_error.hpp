@@ -28,6 +28,10 @@ std::pair<int, int> top_view_axes(const std::vector<Eigen::Vector3d>& positions)
 // "x [m]", "y [m]" or "z [m]".
 const char* axis_label(int axis);
 
+// The positions' coordinates `axes` (e.g. top_view_axes) as a plot series.
+Series top_view_series(const std::string& name, const std::vector<Eigen::Vector3d>& positions,
+                       std::pair<int, int> axes, const std::string& color = "");
+
 struct TrajectoryFigure {
   std::string title;
   std::vector<Eigen::Vector3d> gt, estimate;  // same length, same frame
