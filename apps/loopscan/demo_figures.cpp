@@ -1,7 +1,6 @@
 #include "demo_figures.hpp"
 
 #include <cmath>
-#include <cstdio>
 
 #include "demo_opposite.hpp"
 #include "evaluation_outputs.hpp"
@@ -10,6 +9,7 @@
 #include "loopscan/report/plot.hpp"
 #include "loopscan/report/pr_plot.hpp"
 #include "loopscan/report/recognition_map.hpp"
+#include "loopscan/report/svg_text.hpp"
 
 namespace loopscan::cli {
 namespace {
@@ -47,21 +47,19 @@ std::string scan_figure(const ExampleScan& e) {
   o.x_min = o.x_max = o.y_min = o.y_max = 0;  // ranged from the data
   o.points = true;
   o.equal_aspect = true;
-  std::string svg = report::line_plot_svg({pts}, o);
-  // The sensor is drawn on top in the plot's own pixel frame (markers mode has no lines).
-  const report::PlotFrame f = report::make_frame({pts}, o);
-  const double cx = f.to_px_x(0), cy = f.to_px_y(0), s = 9;
-  char marker[512];
-  std::snprintf(
-      marker, sizeof marker,
-      "<g class=\"sensor\"><path d=\"M%.1f,%.1f L%.1f,%.1f L%.1f,%.1f Z\" fill=\"#d62728\" "
-      "stroke=\"black\"/><text x=\"%.1f\" y=\"%.1f\" fill=\"#d62728\" stroke=\"white\" "
-      "stroke-width=\"3\" "
-      "paint-order=\"stroke\">sensor, "
-      "heading +z</text></g>\n</svg>\n",
-      cx, cy - 1.6 * s, cx - s, cy + s, cx + s, cy + s, cx + s + 4, cy + s);
-  svg.replace(svg.rfind("</svg>"), std::string::npos, marker);
-  return svg;
+  // The sensor: a triangle at the origin pointing ahead (+z), over the points.
+  o.overlay = [](const report::PlotFrame& f) {
+    using report::svg_px;
+    const double cx = f.to_px_x(0), cy = f.to_px_y(0), s = 9;
+    return "<g class=\"sensor\"><path d=\"M" + svg_px(cx) + "," + svg_px(cy - 1.6 * s) + " L" +
+           svg_px(cx - s) + "," + svg_px(cy + s) + " L" + svg_px(cx + s) + "," + svg_px(cy + s) +
+           " Z\" fill=\"#d62728\" stroke=\"black\"/>\n" +
+           report::svg_text(cx + s + 4, cy + s, "start", "sensor, heading +z",
+                            " fill=\"#d62728\" stroke=\"white\" stroke-width=\"3\" "
+                            "paint-order=\"stroke\"") +
+           "</g>\n";
+  };
+  return report::line_plot_svg({pts}, o);
 }
 
 // One half of the default Scan Context (row 0, the place itself) as rings x sectors.

@@ -56,6 +56,23 @@ TEST(ReportFigures, PrCurvesOnTheLimitsStayVisible) {
   EXPECT_GT(legend_top(svg), f.bottom + 40.0);
 }
 
+// An overlay is drawn with the plot's own frame: a mark at data (0.5, 0.5) lands on that pixel.
+TEST(ReportFigures, OverlaysUseThePlotsFrame) {
+  lr::PlotOptions o;
+  o.overlay = [](const lr::PlotFrame& f) {
+    return "<circle class=\"mark\" cx=\"" + lr::svg_px(f.to_px_x(0.5)) + "\" cy=\"" +
+           lr::svg_px(f.to_px_y(0.5)) + "\" r=\"3\"/>\n";
+  };
+  const lr::Series s{"s", {0, 1}, {0, 1}, ""};
+  const std::string svg = lr::line_plot_svg({s}, o);
+  EXPECT_EQ(xml_problem(svg), "");
+  const lr::PlotFrame f = lr::make_frame({s}, o);
+  EXPECT_NE(svg.find("cx=\"" + lr::svg_px((f.left + f.right) / 2) + "\" cy=\"" +
+                     lr::svg_px((f.top + f.bottom) / 2) + "\""),
+            std::string::npos);
+  EXPECT_LT(svg.find("class=\"mark\""), svg.find("class=\"legend\""));  // over the data
+}
+
 TEST(ReportFigures, ColourScaleRunsDarkToBright) {
   EXPECT_EQ(lr::scale_color(0.0), "#440154");
   EXPECT_EQ(lr::scale_color(1.0), "#fde725");

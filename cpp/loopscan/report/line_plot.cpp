@@ -247,6 +247,7 @@ std::string line_plot_svg(const std::vector<Series>& series, const PlotOptions& 
   svg += svg_text(mid_x, f.bottom + 40, "middle", options.x_label);
   svg += svg_text(18, mid_y, "middle", options.y_label,
                   " transform=\"rotate(-90 18 " + svg_px(mid_y) + ")\"");
+  if (options.overlay) svg += options.overlay(f);
   svg += legend(series, f, options.points);
   if (f.colorbar) {
     svg += colorbar_svg(f.right + 16, f.top, 14, f.bottom - f.top, lo, hi, options.color_label);

@@ -1,10 +1,13 @@
 #pragma once
 // General-purpose SVG line / scatter plots (PR curves, trajectories, timing figures).
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace loopscan::report {
+
+struct PlotFrame;
 
 struct Series {
   // A constructor (not aggregate initialisation) so {name, x, y, color} leaves the styling
@@ -34,6 +37,8 @@ struct PlotOptions {
   double pad = 0;
   std::string color_label;              // colour bar label of value-coloured series
   double color_min = 0, color_max = 0;  // colour range; auto (data range) when max <= min
+  // Extra SVG drawn over the data (markers, annotations), placed with the plot's own frame.
+  std::function<std::string(const PlotFrame&)> overlay;
 };
 
 // A complete SVG document: frame, grid, ticks with labels, axis labels, title, legend below the
