@@ -47,11 +47,10 @@ ImageDescriptors describe_gist(const io::KittiSequence& sequence, const std::vec
       const auto t0 = Clock::now();
       d.gist[i] = gist.describe(image);
       extract_ms[t] += ms_since(t0);
-      if (t == 0)  // other threads may still be working: stop one short of all images
-        report_progress(progress, std::min(i + threads, frames.size() - 1), frames.size());
+      report_worker_progress(progress, t, i + threads, frames.size());
     }
   });
-  if (!frames.empty()) report_progress(progress, frames.size(), frames.size());
+  report_progress(progress, frames.size(), frames.size());
   for (int t = 0; t < threads; ++t) {
     d.read_ms += read_ms[t];
     d.extract_ms += extract_ms[t];

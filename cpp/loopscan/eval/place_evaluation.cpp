@@ -32,13 +32,10 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
   std::vector<double> thread_ms(threads, 0.0);
   const bool adaptive = options.two_passes();
   const int mask = options.protocol.mask_width;
-  // Thread 0 reports for all: its item count times the thread count is within `threads` of the
-  // rows done, and the callback never runs concurrently.
   const std::size_t passes = adaptive ? 2 : 1, rows = passes * queries.size();
   auto report = [&](int t, std::size_t pass, std::size_t i) {
-    if (t != 0) return;  // other threads may still be working: stop one short of all rows
-    const std::size_t done = pass * queries.size() + std::min(i + threads, queries.size());
-    report_progress(options.progress, std::min(done, rows - 1), rows);
+    const std::size_t in_pass = std::min(i + threads, queries.size());
+    report_worker_progress(options.progress, t, pass * queries.size() + in_pass, rows);
   };
   out.weights.structure = options.structure_weight;
   if (adaptive) {  // pass one: the statistics of the whole difference matrix
@@ -72,7 +69,7 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
     }
   };
   run_on_threads(threads, work);
-  if (rows > 0) report_progress(options.progress, rows, rows);
+  report_progress(options.progress, rows, rows);
   double total_ms = 0;
   for (double ms : thread_ms) total_ms += ms;
   out.query_ms = queries.empty() ? 0.0 : total_ms / static_cast<double>(queries.size());
