@@ -38,6 +38,10 @@ def test_bad_input_raises_with_the_reason():
         loopscan.describe_sequence(poses, points, mode="fast")
     with pytest.raises(ValueError, match=r"unknown method .sift. \(expected sc, m2dp or delight\)"):
         loopscan.describe_sequence(poses, points, method="sift")
+    with pytest.raises(ValueError, match="keyframe ids in increasing order"):
+        loopscan.describe_sequence((poses[0][::-1].copy(), poses[1]), points)
+    with pytest.raises(ValueError, match="point ids in non-decreasing order"):
+        loopscan.describe_sequence(poses, (points[0][::-1].copy(), points[1]))
     with pytest.raises(ValueError, match="expected .* tuples"):
         loopscan.describe_sequence(poses[0], points)
     with pytest.raises(ValueError, match="protocol: expected 'same'"):

@@ -50,6 +50,13 @@ TEST(Preconditions, DescribeSequenceRefusesAbsurdThreadCountsAndNonFinitePoses) 
     EXPECT_THROW(describe_sequence(poses, {}, o), std::invalid_argument) << threads;
   }
   o.threads = 2;
+  // Out of id order (arrays not read from a file, e.g. from Python): refused, not misread.
+  std::vector<KeyframePose> swapped = poses;
+  std::swap(swapped[0], swapped[1]);
+  EXPECT_THROW(describe_sequence(swapped, {}, o), std::invalid_argument);
+  const std::vector<IdPoint> unsorted = {{2, {1, 0, 1}, 10.f}, {1, {1, 0, 1}, 10.f}};
+  EXPECT_THROW(describe_sequence(poses, unsorted, o), std::invalid_argument);
+  EXPECT_NO_THROW(describe_sequence(poses, {unsorted[1], unsorted[0]}, o));
   poses[1].T_cam_world(0, 3) = kNan;
   EXPECT_THROW(describe_sequence(poses, {}, o), std::invalid_argument);
 }

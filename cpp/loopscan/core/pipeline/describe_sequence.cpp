@@ -57,6 +57,19 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
                                 std::to_string(SequenceOptions::kMaxThreads) + "], got " +
                                 std::to_string(options.threads));
   }
+  // The walk below hands each keyframe the points up to its id: both must be in id order (the
+  // SO-DSO reader refuses other files; arrays from elsewhere are checked here).
+  for (std::size_t k = 1; k < poses.size(); ++k) {
+    if (poses[k].id <= poses[k - 1].id) {
+      throw std::invalid_argument("describe_sequence: keyframe ids in increasing order (id " +
+                                  std::to_string(poses[k].id) + " after " +
+                                  std::to_string(poses[k - 1].id) + ")");
+    }
+  }
+  const auto by_id = [](const IdPoint& a, const IdPoint& b) { return a.id < b.id; };
+  if (!std::is_sorted(points.begin(), points.end(), by_id)) {
+    throw std::invalid_argument("describe_sequence: point ids in non-decreasing order");
+  }
   SequenceSignatures out;
   ScanImitator imitator(options.imitation);
   const ScanFilter filter = filter_for(options.method);

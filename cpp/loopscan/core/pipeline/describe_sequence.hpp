@@ -31,8 +31,9 @@ struct SequenceSignatures {
   double mean_in_range = 0, mean_filtered = 0;  // points per scan
 };
 
-// Throws std::invalid_argument on invalid options (threads outside [1, kMaxThreads], configs
-// that fail validate) and on a non-finite keyframe pose.
+// Throws std::invalid_argument on keyframe ids not increasing, point ids not sorted, invalid
+// options (threads outside [1, kMaxThreads], configs that fail validate) and on a non-finite
+// keyframe pose.
 SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
                                      const std::vector<IdPoint>& points,
                                      const SequenceOptions& options);
