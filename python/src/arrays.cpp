@@ -87,12 +87,8 @@ py::tuple from_points(const std::vector<IdPoint>& points) {
 }
 
 KeyframePose keyframe_pose(int keyframe, const DoubleArray& T_cam_world) {
-  require_shape(T_cam_world, "T_cam_world", {3, 4}, "world-to-camera transform, top three rows");
-  KeyframePose kf;
-  kf.id = keyframe;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) kf.T_cam_world(r, c) = T_cam_world.at(r, c);
-  return kf;
+  return {keyframe,
+          to_fixed<3, 4>(T_cam_world, "T_cam_world", "world-to-camera transform, top three rows")};
 }
 
 std::vector<IdPoint> keyframe_points(int keyframe, const DoubleArray& points) {
@@ -144,9 +140,32 @@ Eigen::MatrixXd to_matrix(const DoubleArray& a, const std::string& name) {
   return Eigen::Map<const RowMajor>(a.data(), a.shape(0), a.shape(1));
 }
 
+Places places_of(const std::vector<Signature>& signatures, const std::vector<int>& keyframe_ids,
+                 const std::vector<Eigen::Matrix3d>& frames) {
+  Places p;
+  for (const Signature& s : signatures) p.signatures.append(from_matrix(s));
+  p.keyframe_ids =
+      py::array_t<int>(static_cast<py::ssize_t>(keyframe_ids.size()), keyframe_ids.data());
+  p.frames = py::array_t<double>(
+      {static_cast<py::ssize_t>(frames.size()), py::ssize_t(3), py::ssize_t(3)});
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(p.frames.mutable_data(i)) = frames[i];
+  }
+  return p;
+}
+
 py::array_t<double> from_isometry(const Eigen::Isometry3d& T) {
   py::array_t<double> out({py::ssize_t(4), py::ssize_t(4)});
   Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(out.mutable_data()) = T.matrix();
+  return out;
+}
+
+py::array_t<double> from_isometries(const std::vector<Eigen::Isometry3d>& poses) {
+  py::array_t<double> out({static_cast<py::ssize_t>(poses.size()), py::ssize_t(4), py::ssize_t(4)});
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    Eigen::Map<Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>(out.mutable_data(i)) =
+        poses[i].matrix();
+  }
   return out;
 }
 

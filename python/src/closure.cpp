@@ -41,16 +41,8 @@ void bind_closure(py::module_& m) {
                  closure::LoopCloserConfig::make(parse_method(method), parse_mode(mode), range_m));
            }),
            py::arg("method") = "sc", py::arg("mode") = "default", py::arg("range_m") = 45.0)
-      .def(
-          "add_keyframe",
-          [](LoopCloser& c, int keyframe, const DoubleArray& T_cam_world, const DoubleArray& points,
-             bool reset) {
-            const KeyframePose kf = keyframe_pose(keyframe, T_cam_world);
-            const std::vector<IdPoint> pts = keyframe_points(keyframe, points);
-            py::gil_scoped_release release;
-            return c.add_keyframe(kf, pts.data(), pts.size(), reset);
-          },
-          py::arg("keyframe"), py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false)
+      .def("add_keyframe", &add_keyframe_arrays<LoopCloser>, py::arg("keyframe"),
+           py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false)
       .def("finish",
            [](LoopCloser& c) {
              py::gil_scoped_release release;

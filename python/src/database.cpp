@@ -14,29 +14,12 @@ namespace loopscan::python {
 
 namespace {
 
-std::optional<Eigen::Matrix3d> to_frame(const py::object& frame) {
-  if (frame.is_none()) return std::nullopt;
-  const DoubleArray a = frame.cast<DoubleArray>();
-  require_shape(a, "frame", {3, 3}, "the descriptor's axes in the camera frame, rows = axes");
-  Eigen::Matrix3d m;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) m(r, c) = a.at(r, c);
-  return m;
-}
-
-std::optional<Pose3x4> to_pose(const py::object& pose, const std::string& name) {
-  if (pose.is_none()) return std::nullopt;
-  const DoubleArray a = pose.cast<DoubleArray>();
-  require_shape(a, name, {3, 4}, "world-to-camera transform, top three rows");
-  Pose3x4 T;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 4; ++c) T(r, c) = a.at(r, c);
-  return T;
-}
-
 PlaceDescriptor descriptor(const DoubleArray& signature, const py::object& frame) {
   PlaceDescriptor d{to_matrix(signature, "signature"), Eigen::Matrix3d::Identity()};
-  if (const auto f = to_frame(frame)) d.frame = *f;
+  if (!frame.is_none()) {
+    d.frame = to_fixed<3, 3>(frame.cast<DoubleArray>(), "frame",
+                             "the descriptor's axes in the camera frame, rows = axes");
+  }
   return d;
 }
 
@@ -51,7 +34,7 @@ std::string candidate_repr(const Candidate& c) {
 std::vector<Candidate> query(const Database& db, const DoubleArray& signature, int k,
                              const py::object& frame, const std::string& retrieval, int candidates,
                              int index_pool_factor, int stats_sample, int exclude_recent,
-                             const std::vector<int>& sessions, double max_distance,
+                             std::vector<int> sessions, double max_distance,
                              double uniqueness_ratio, int distinct_gap, int threads,
                              const py::object& accept) {
   QueryOptions o;
@@ -63,25 +46,21 @@ std::vector<Candidate> query(const Database& db, const DoubleArray& signature, i
   o.index_pool_factor = index_pool_factor;
   o.stats_sample = stats_sample;
   o.exclude_recent = exclude_recent;
-  o.sessions = sessions;
+  o.sessions = std::move(sessions);
   o.max_distance = max_distance;
   o.uniqueness_ratio = uniqueness_ratio;
   o.distinct_gap = distinct_gap;
   o.threads = threads;
-  if (!accept.is_none()) {
-    // A Python rule may raise, which must not happen on a worker thread; it runs with the GIL
-    // taken, and is held as a borrowed pointer (the argument outlives the call) so that no
-    // copy of the rule is destroyed while the GIL is released.
-    if (threads != 1) throw py::value_error("accept: a Python rule needs threads=1");
-    if (!PyCallable_Check(accept.ptr())) throw py::type_error("accept: expected a callable");
-    PyObject* rule = accept.ptr();
-    o.accept = [rule](std::size_t index, const PlaceRef& place) {
-      py::gil_scoped_acquire gil;
-      return py::reinterpret_borrow<py::function>(rule)(index, place.session, place.keyframe)
-          .cast<bool>();
-    };
-  }
   const PlaceDescriptor d = descriptor(signature, frame);
+  if (!accept.is_none()) {
+    // The database asks the rule on the calling thread, before any scoring thread starts: the
+    // GIL stays held for this query, and an exception in the rule reaches the caller.
+    if (!PyCallable_Check(accept.ptr())) throw py::type_error("accept: expected a callable");
+    o.accept = [&accept](std::size_t index, const PlaceRef& place) {
+      return accept(index, place.session, place.keyframe).cast<bool>();
+    };
+    return db.query(d, k, o);
+  }
   py::gil_scoped_release release;
   return db.query(d, k, o);
 }
@@ -89,6 +68,7 @@ std::vector<Candidate> query(const Database& db, const DoubleArray& signature, i
 }  // namespace
 
 void bind_database(py::module_& m) {
+  const QueryOptions kQuery;  // the keyword defaults are the C++ defaults
   py::class_<Candidate>(m, "Candidate", "One place a query matched.")
       .def_property_readonly("session", [](const Candidate& c) { return c.place.session; })
       .def_property_readonly("keyframe", [](const Candidate& c) { return c.place.keyframe; })
@@ -108,23 +88,30 @@ void bind_database(py::module_& m) {
                  c.structure_weight = structure_weight;
                  return Database(c);
                }),
-           py::arg("method") = "sc", py::arg("fusion") = "fused", py::arg("structure_weight") = 2.0)
+           py::arg("method") = "sc", py::arg("fusion") = fusion_name(DatabaseConfig{}.fusion),
+           py::arg("structure_weight") = DatabaseConfig{}.structure_weight)
       .def(
           "add",
           [](Database& db, const DoubleArray& signature, int keyframe, int session,
              const py::object& frame, const py::object& pose) {
-            db.add({session, keyframe}, descriptor(signature, frame), to_pose(pose, "pose"));
+            std::optional<Pose3x4> T;
+            if (!pose.is_none())
+              T = to_fixed<3, 4>(pose.cast<DoubleArray>(), "pose",
+                                 "world-to-camera transform, top three rows");
+            db.add({session, keyframe}, descriptor(signature, frame), T);
           },
           py::arg("signature"), py::arg("keyframe"), py::arg("session") = 0,
           py::arg("frame") = py::none(), py::arg("pose") = py::none(),
           "Adds a place: its signature (rows, values), optional descriptor frame (3, 3) and "
           "world-to-camera pose (3, 4).")
       .def("query", &query, py::arg("signature"), py::arg("k") = 1, py::arg("frame") = py::none(),
-           py::arg("retrieval") = "indexed", py::arg("candidates") = 50,
-           py::arg("index_pool_factor") = 8, py::arg("stats_sample") = 64,
-           py::arg("exclude_recent") = 0, py::arg("sessions") = std::vector<int>{},
-           py::arg("max_distance") = std::numeric_limits<double>::infinity(),
-           py::arg("uniqueness_ratio") = 1.0, py::arg("distinct_gap") = 50, py::arg("threads") = 1,
+           py::arg("retrieval") = "indexed", py::arg("candidates") = kQuery.candidates,
+           py::arg("index_pool_factor") = kQuery.index_pool_factor,
+           py::arg("stats_sample") = kQuery.stats_sample,
+           py::arg("exclude_recent") = kQuery.exclude_recent, py::arg("sessions") = kQuery.sessions,
+           py::arg("max_distance") = kQuery.max_distance,
+           py::arg("uniqueness_ratio") = kQuery.uniqueness_ratio,
+           py::arg("distinct_gap") = kQuery.distinct_gap, py::arg("threads") = kQuery.threads,
            py::arg("accept") = py::none(),
            "Up to k places, best first (QueryOptions as keywords; accept(index, session, "
            "keyframe) -> bool: which places may match).")
@@ -164,19 +151,13 @@ void bind_database(py::module_& m) {
              return Recognizer(c);
            }),
            py::arg("method") = "sc", py::arg("mode") = "default", py::arg("range_m") = 45.0,
-           py::arg("k") = 1, py::arg("session") = 0, py::arg("exclude_recent") = 99)
-      .def(
-          "add_keyframe",
-          [](Recognizer& r, int keyframe, const DoubleArray& T_cam_world, const DoubleArray& points,
-             bool reset) {
-            const KeyframePose kf = keyframe_pose(keyframe, T_cam_world);
-            const std::vector<IdPoint> pts = keyframe_points(keyframe, points);
-            py::gil_scoped_release release;
-            return r.add_keyframe(kf, pts.data(), pts.size(), reset);
-          },
-          py::arg("keyframe"), py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false,
-          "One keyframe: its id, world-to-camera pose (3, 4) and the points (N, 4) the VO "
-          "exported with it (world frame, x y z gray). Returns the places described now.")
+           py::arg("k") = 1, py::arg("session") = 0,
+           py::arg("exclude_recent") =
+               RecognizerConfig::make(Method::ScanContext).query.exclude_recent)
+      .def("add_keyframe", &add_keyframe_arrays<Recognizer>, py::arg("keyframe"),
+           py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false,
+           "One keyframe: its id, world-to-camera pose (3, 4) and the points (N, 4) the VO "
+           "exported with it (world frame, x y z gray). Returns the places described now.")
       .def("finish", &Recognizer::finish, py::call_guard<py::gil_scoped_release>())
       .def_property_readonly(
           "database", [](Recognizer& r) -> Database& { return r.database(); },

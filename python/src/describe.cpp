@@ -21,9 +21,15 @@ py::array_t<double> describe_scan(const DoubleArray& points, const std::string& 
   return from_matrix(s);
 }
 
-SequenceSignatures describe_vo(const py::object& poses_in, const py::object& points_in,
-                               const std::string& method, const std::string& mode, int threads,
-                               double range_m, const py::object& reset_ids) {
+// A described sequence: its places and the mean stage times.
+struct DescribedSequence {
+  Places places;
+  double imitate_ms = 0, describe_ms = 0;
+};
+
+DescribedSequence describe_vo(const py::object& poses_in, const py::object& points_in,
+                              const std::string& method, const std::string& mode, int threads,
+                              double range_m, const py::object& reset_ids) {
   const bool pairs = py::isinstance<py::tuple>(poses_in) && py::isinstance<py::tuple>(points_in) &&
                      py::len(poses_in) == 2 && py::len(points_in) == 2;
   if (!pairs) {
@@ -37,45 +43,34 @@ SequenceSignatures describe_vo(const py::object& poses_in, const py::object& poi
   const std::vector<IdPoint> pts =
       to_points(points[0].cast<IntArray>(), points[1].cast<DoubleArray>());
   const Mode m = parse_mode(mode);
-  if (!(range_m > 0)) throw py::value_error("range_m: expected a positive range in metres");
   SequenceOptions options = SequenceOptions::make(parse_method(method), m, range_m);
   options.threads = threads;
   if (m == Mode::Default) {  // as `describe`: detected unless given
     options.reset_ids =
         reset_ids.is_none() ? detect_vo_resets(kf) : reset_ids.cast<std::vector<int>>();
   }
-  py::gil_scoped_release release;
-  return describe_sequence(kf, pts, options);
+  SequenceSignatures s;
+  {
+    py::gil_scoped_release release;
+    s = describe_sequence(kf, pts, options);
+  }
+  return {places_of(s.signatures, s.keyframe_ids, s.frames), s.imitate_ms, s.describe_ms};
 }
 
 }  // namespace
 
 void bind_describe(py::module_& m) {
-  py::class_<SequenceSignatures>(m, "SequenceSignatures",
-                                 "Signatures of a VO sequence: one per described keyframe.")
-      .def_property_readonly(
-          "keyframe_ids",
-          [](const SequenceSignatures& s) {
-            return py::array_t<int>(static_cast<py::ssize_t>(s.keyframe_ids.size()),
-                                    s.keyframe_ids.data());
-          },
-          "int array (P,): the keyframe of each signature")
-      .def_property_readonly(
-          "signatures",
-          [](const SequenceSignatures& s) {
-            py::list out;
-            for (const Signature& sig : s.signatures) out.append(from_matrix(sig));
-            return out;
-          },
-          "list of P float64 arrays (rows, values): rows = versions of the place (row 0: itself)")
-      .def_readonly("imitate_ms", &SequenceSignatures::imitate_ms,
-                    "mean ms per described keyframe: crop + filter")
-      .def_readonly("describe_ms", &SequenceSignatures::describe_ms,
+  py::class_<DescribedSequence> seq(m, "SequenceSignatures",
+                                    "Signatures of a VO sequence: one per described keyframe.");
+  bind_places<DescribedSequence>(seq);
+  seq.def_readonly("imitate_ms", &DescribedSequence::imitate_ms,
+                   "mean ms per described keyframe: crop + filter")
+      .def_readonly("describe_ms", &DescribedSequence::describe_ms,
                     "mean ms per described keyframe: the descriptor (one thread's work)")
-      .def("__len__", [](const SequenceSignatures& s) { return s.signatures.size(); })
-      .def("__repr__", [](const SequenceSignatures& s) {
-        return "<SequenceSignatures: " + std::to_string(s.signatures.size()) + " places, " +
-               std::to_string(s.signatures.empty() ? 0 : s.signatures.front().cols()) +
+      .def("__repr__", [](const DescribedSequence& s) {
+        const py::list& sigs = s.places.signatures;
+        return "<SequenceSignatures: " + std::to_string(py::len(sigs)) + " places, " +
+               std::to_string(py::len(sigs) ? sigs[0].cast<py::array>().shape(1) : 0) +
                " values a row>";
       });
   m.def("describe", &describe_scan, py::arg("points"), py::arg("method") = "sc",

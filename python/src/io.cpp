@@ -12,7 +12,8 @@ namespace loopscan::python {
 namespace {
 
 struct LoadedSignatures {  // a `describe` output directory, with positions when asked
-  io::SignatureSet set;
+  Places places;
+  py::array_t<double> positions;
 };
 
 }  // namespace
@@ -35,35 +36,22 @@ void bind_io(py::module_& m) {
       py::arg("path"), py::arg("format") = "kitti",
       "Ground truth, one position a line: KITTI poses (camera-to-world 3x4) or RobotCar GPS "
       "(northing easting down) -> float64 (N, 3).");
-  py::class_<LoadedSignatures>(m, "SignatureSet", "A `describe` output: signatures and ids.")
-      .def_property_readonly("signatures",
-                             [](const LoadedSignatures& s) {
-                               py::list out;
-                               for (const Signature& sig : s.set.places)
-                                 out.append(from_matrix(sig));
-                               return out;
-                             })
-      .def_property_readonly("keyframe_ids",
-                             [](const LoadedSignatures& s) {
-                               return py::array_t<int>(
-                                   static_cast<py::ssize_t>(s.set.keyframe_ids.size()),
-                                   s.set.keyframe_ids.data());
-                             })
-      .def_property_readonly(
-          "positions", [](const LoadedSignatures& s) { return from_positions(s.set.positions); },
-          "ground-truth position of each place (empty without gt)")
-      .def("__len__", [](const LoadedSignatures& s) { return s.set.places.size(); })
+  py::class_<LoadedSignatures> set(m, "SignatureSet", "A `describe` output: signatures and ids.");
+  bind_places<LoadedSignatures>(set);
+  set.def_readonly("positions", &LoadedSignatures::positions,
+                   "ground-truth position of each place (empty without gt)")
       .def("__repr__", [](const LoadedSignatures& s) {
-        return "<SignatureSet: " + std::to_string(s.set.places.size()) + " places" +
-               (s.set.positions.empty() ? "" : ", with positions") + ">";
+        return "<SignatureSet: " + std::to_string(py::len(s.places.signatures)) + " places" +
+               (s.positions.shape(0) == 0 ? "" : ", with positions") + ">";
       });
   m.def(
       "read_signatures",
       [](const std::string& path, const std::string& method, const std::string& gt,
          const std::string& gt_format) {
-        LoadedSignatures s{io::load_signature_set(path, parse_method(method))};
-        if (!gt.empty()) io::attach_positions(s.set, gt, gt_format);
-        return s;
+        io::SignatureSet set = io::load_signature_set(path, parse_method(method));
+        if (!gt.empty()) io::attach_positions(set, gt, gt_format);
+        return LoadedSignatures{places_of(set.places, set.keyframe_ids, set.frames),
+                                from_positions(set.positions)};
       },
       py::arg("path"), py::arg("method") = "sc", py::arg("gt") = "", py::arg("gt_format") = "kitti",
       "A `describe` output directory (signatures.txt + incoming_id_file.txt); gt: a ground-truth "

@@ -25,28 +25,18 @@ std::vector<Eigen::Isometry3d> to_isometries(const DoubleArray& a, const std::st
   return out;
 }
 
-py::array_t<double> poses_array(const std::vector<Eigen::Matrix4d>& poses) {
-  const auto n = static_cast<py::ssize_t>(poses.size());
-  py::array_t<double> out({n, py::ssize_t(4), py::ssize_t(4)});
-  auto a = out.mutable_unchecked<3>();
-  for (py::ssize_t i = 0; i < n; ++i)
-    for (int r = 0; r < 4; ++r)
-      for (int c = 0; c < 4; ++c) a(i, r, c) = poses[static_cast<std::size_t>(i)](r, c);
-  return out;
-}
-
 }  // namespace
 
 void bind_metrics(py::module_& m) {
   m.def(
       "read_kitti_poses",
       [](const std::string& path) {
-        std::vector<Eigen::Matrix4d> poses;
+        std::vector<Eigen::Isometry3d> poses;
         for (const auto& T : io::read_kitti_poses(path)) {
-          poses.push_back(Eigen::Matrix4d::Identity());
-          poses.back().topRows<3>() = T;
+          poses.emplace_back();
+          poses.back().matrix().topRows<3>() = T;
         }
-        return poses_array(poses);
+        return from_isometries(poses);
       },
       py::arg("path"), "KITTI poses (camera-to-world, a line per frame) -> float64 (N, 4, 4).");
   m.def(
@@ -54,12 +44,12 @@ void bind_metrics(py::module_& m) {
       [](const std::string& path) {
         const std::vector<io::TumPose> tum = io::read_tum_trajectory(path);
         py::array_t<double> times(static_cast<py::ssize_t>(tum.size()));
-        std::vector<Eigen::Matrix4d> poses;
+        std::vector<Eigen::Isometry3d> poses;
         for (std::size_t i = 0; i < tum.size(); ++i) {
           times.mutable_at(i) = tum[i].time;
-          poses.push_back(tum[i].T_world_body.matrix());
+          poses.push_back(tum[i].T_world_body);
         }
-        return py::make_tuple(times, poses_array(poses));
+        return py::make_tuple(times, from_isometries(poses));
       },
       py::arg("path"), "TUM trajectory -> (times (N,), T_world_body float64 (N, 4, 4)).");
   m.def(

@@ -38,10 +38,6 @@ void bind_vo(py::module_& m) {
       .def(py::init([](double fx, double fy, double cx, double cy, double baseline_m, int width,
                        int height, int points_per_keyframe) {
              vo::StereoIntrinsics c{fx, fy, cx, cy, baseline_m, width, height};
-             if (!c.plausible())
-               throw py::value_error(
-                   "camera: expected a positive size, focal lengths in [1, 1e5] px and a baseline "
-                   "in (0, 100] m");
              vo::VoConfig config;
              config.points_per_keyframe = points_per_keyframe;
              return StereoVo(c, config);
@@ -64,30 +60,15 @@ void bind_vo(py::module_& m) {
           [](const StereoVo& v) {
             py::list out;
             for (const vo::FinishedKeyframe& k : v.finished_keyframes()) {
-              std::vector<IdPoint> pts = vo::world_points(k);
-              py::array_t<double> xyz({static_cast<py::ssize_t>(pts.size()), py::ssize_t(4)});
-              auto a = xyz.mutable_unchecked<2>();
-              for (std::size_t i = 0; i < pts.size(); ++i) {
-                for (int c = 0; c < 3; ++c) a(i, c) = pts[i].p_world[c];
-                a(i, 3) = pts[i].intensity;
-              }
-              out.append(py::make_tuple(k.frame, from_isometry(k.T_world_cam), k.reset, xyz));
+              const py::tuple ids_xyz = from_points(vo::world_points(k));
+              out.append(
+                  py::make_tuple(k.frame, from_isometry(k.T_world_cam), k.reset, ids_xyz[1]));
             }
             return out;
           },
           "Finished keyframes: (frame, T_world_cam 4x4, reset, points (N, 4) world x y z gray).")
       .def(
-          "trajectory",
-          [](const StereoVo& v) {
-            const std::vector<Eigen::Isometry3d> t = v.trajectory();
-            py::array_t<double> out(
-                {static_cast<py::ssize_t>(t.size()), py::ssize_t(4), py::ssize_t(4)});
-            auto a = out.mutable_unchecked<3>();
-            for (std::size_t i = 0; i < t.size(); ++i)
-              for (int r = 0; r < 4; ++r)
-                for (int c = 0; c < 4; ++c) a(i, r, c) = t[i].matrix()(r, c);
-            return out;
-          },
+          "trajectory", [](const StereoVo& v) { return from_isometries(v.trajectory()); },
           "Every processed frame's camera-to-world pose (N, 4, 4), on its keyframe's final pose.");
   m.def(
       "read_kitti_calib",

@@ -25,6 +25,9 @@ def test_describe_and_evaluate_equal_the_cli(k06, tmp_path):
     written = loopscan.read_signatures(str(tmp_path / "sc"), method="sc", gt=str(k06 / "gt.txt"))
     np.testing.assert_array_equal(ours.keyframe_ids, written.keyframe_ids)
     assert len(ours) == len(written) == cli["n_queries"]
+    # The descriptor frames Database.add needs for the yaw: those `describe` wrote.
+    assert ours.frames.shape == written.frames.shape == (len(ours), 3, 3)
+    np.testing.assert_allclose(ours.frames, written.frames, atol=1e-6)
     for a, b in zip(ours.signatures, written.signatures):  # signatures.txt keeps 10 digits
         assert a.shape == b.shape
         assert np.max(np.abs(a - b)) <= 1e-9 * max(1.0, np.max(np.abs(a)))

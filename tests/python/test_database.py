@@ -72,8 +72,12 @@ def test_database_round_trip_and_query_options(tmp_path):
     assert len(even) == 5 and all(c.index % 2 == 0 for c in even)
     with pytest.raises(ZeroDivisionError):  # an error in the rule reaches the caller
         db.query(q, accept=lambda index, session, kf: 1 / 0)
-    with pytest.raises(ValueError, match="accept: a Python rule needs threads=1"):
-        db.query(q, retrieval="exact", threads=2, accept=lambda *a: True)
+    # The rule is asked on the calling thread: the scoring threads give the same answer.
+    rule = lambda index, session, kf: index % 3 != 0  # noqa: E731
+    one = db.query(q, k=5, retrieval="exact", threads=1, accept=rule)
+    two = db.query(q, k=5, retrieval="exact", threads=2, accept=rule)
+    assert [(c.index, c.distance) for c in one] == [(c.index, c.distance) for c in two]
+    assert all(c.index % 3 != 0 for c in one)
     with pytest.raises(ValueError, match="retrieval: expected 'indexed' or 'exact'"):
         db.query(q, retrieval="fast")
     with pytest.raises(ValueError):

@@ -34,5 +34,7 @@ def test_vo_on_real_kitti_frames_equals_the_cli(tmp_path):
     assert len(kfs) == keyframes > 5
     frame, T, reset, points = kfs[1]
     assert T.shape == (4, 4) and points.shape[1] == 4 and len(points) > 100
+    with pytest.raises(ValueError, match="implausible camera: expected a positive image size"):
+        loopscan.StereoVo(**{**calib, "fx": 0.0}, width=1226, height=370)
     with pytest.raises(ValueError, match=r"left: expected an array of shape \(370, 1226\)"):
         vo.process(len(cli), left0[:100], left0)

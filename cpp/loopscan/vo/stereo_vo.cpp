@@ -45,14 +45,17 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 std::vector<IdPoint> world_points(const FinishedKeyframe& kf) {
   std::vector<IdPoint> out;
   out.reserve(kf.camera_points.size());
-  for (const CameraPoint& p : kf.camera_points) out.push_back({kf.frame, kf.T_world_cam * p.p_cam, p.gray});
+  for (const CameraPoint& p : kf.camera_points)
+    out.push_back({kf.frame, kf.T_world_cam * p.p_cam, p.gray});
   return out;
 }
 
 StereoVo::StereoVo(const StereoIntrinsics& camera, const VoConfig& config)
     : camera_(camera), config_(config), px_scale_(pixel_scale(camera)) {
   if (!camera.plausible())
-    throw std::invalid_argument("StereoVo: implausible camera (see StereoIntrinsics::plausible)");
+    throw std::invalid_argument(
+        "StereoVo: implausible camera: expected a positive image size, focal lengths in [1, 1e5] "
+        "px, a principal point within +-1e5 px and a baseline in (0, 100] m");
   if (config.window_keyframes < 2 || config.fixed_keyframes < 1)
     throw std::invalid_argument("StereoVo: the window needs >= 2 keyframes, >= 1 of them fixed");
 }
@@ -61,10 +64,9 @@ FrameResult StereoVo::process(int frame, const cv::Mat& left, const cv::Mat& rig
   if (closed_) throw std::logic_error("StereoVo::process after finish()");
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1 || left.size() != right.size() ||
       left.cols != camera_.width || left.rows != camera_.height) {
-    throw std::invalid_argument("StereoVo: frame " + std::to_string(frame) +
-                                ": expected two 8-bit gray images of " +
-                                std::to_string(camera_.width) + "x" +
-                                std::to_string(camera_.height));
+    throw std::invalid_argument(
+        "StereoVo: frame " + std::to_string(frame) + ": expected two 8-bit gray images of " +
+        std::to_string(camera_.width) + "x" + std::to_string(camera_.height));
   }
   FrameResult r;
   r.frame = frame;
@@ -234,7 +236,8 @@ void StereoVo::run_window_ba(Eigen::Isometry3d& T) {
   // Points constrained in depth: seen twice in the window or once with a right-image match.
   std::unordered_map<int, int> weight;
   for (const Keyframe& kf : window_)
-    for (const Observation& o : kf.observations) weight[o.point] += std::isfinite(o.u_right) ? 2 : 1;
+    for (const Observation& o : kf.observations)
+      weight[o.point] += std::isfinite(o.u_right) ? 2 : 1;
   std::unordered_map<int, int> local;
   for (int i = 0; i < n; ++i) {
     problem.T_cam_world.push_back(window_[i].T_world_cam.inverse());
@@ -293,7 +296,8 @@ void StereoVo::finish() {
 std::vector<Eigen::Isometry3d> StereoVo::trajectory() const {
   std::vector<Eigen::Isometry3d> out;
   out.reserve(anchors_.size());
-  for (const FrameAnchor& a : anchors_) out.push_back(final_keyframe_poses_[a.keyframe] * a.T_kf_frame);
+  for (const FrameAnchor& a : anchors_)
+    out.push_back(final_keyframe_poses_[a.keyframe] * a.T_kf_frame);
   return out;
 }
 
