@@ -45,6 +45,7 @@ Cloud lidar_scan_as_imitated(const Cloud& lidar, ScanFilter filter,
     return filter_scan(lidar_in_range(lidar, imitation.range_m, options), filter, imitation);
   // Default mode: straight into the float SoA layout of the fast filter (no Cloud copy).
   CameraPoints fast;
+  for (std::vector<float>* v : {&fast.x, &fast.y, &fast.z, &fast.gray}) v->reserve(lidar.size());
   for_each_in_range(lidar, imitation.range_m, options,
                     [&](double x, double y, double z, float gray) {
                       fast.x.push_back(static_cast<float>(x));
