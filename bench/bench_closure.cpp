@@ -10,6 +10,7 @@
 
 #include "loopscan/closure/pose_graph.hpp"
 #include "loopscan/closure/verification.hpp"
+#include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/core/scan/scan_imitator.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/sodso.hpp"
@@ -38,16 +39,13 @@ const Places& places() {
     CameraPoints in;
     std::vector<Eigen::Vector3f> raw;
     Cloud scan;
-    std::size_t next = 0;
-    for (const KeyframePose& k : poses) {
-      const std::size_t first = next;
-      while (next < points.size() && points[next].id <= k.id) ++next;
-      if (!im.next_scan(k, points.data() + first, next - first, false, ScanFilter::Cartesian, scan)) continue;
+    for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+      if (!im.next_scan(k, p, n, false, ScanFilter::Cartesian, scan)) return;
       im.last_in_range(raw);
       x.ids.push_back(k.id);
       x.voxel.push_back(closure::voxel_cloud(raw));
       x.gt.push_back(gt[std::size_t(k.id)].col(3));
-    }
+    });
     return x;
   }();
   return p;

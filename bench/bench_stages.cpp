@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/core/matching/place_matcher.hpp"
 #include "loopscan/core/pipeline/recognizer.hpp"
 #include "loopscan/core/scan/camera_points.hpp"
@@ -39,18 +40,15 @@ const Data& data() {
     x.points = io::read_sodso_points(fixture_dir() + "/pts_history_file.txt.gz");
     ScanImitator im;
     Cloud in;
-    std::size_t next = 0;
     int described = 0;
-    for (const KeyframePose& k : x.poses) {
-      const std::size_t first = next;
-      while (next < x.points.size() && x.points[next].id <= k.id) ++next;
-      if (im.add_keyframe(k, x.points.data() + first, next - first, false, in) &&
-          described++ % 8 == 0) {
-        x.in_range.push_back(in);
-        x.cartesian.push_back(filter_scan(in, ScanFilter::Cartesian, ImitationConfig{}));
-        x.polar.push_back(filter_scan(in, ScanFilter::Polar, ImitationConfig{}));
-      }
-    }
+    for_each_keyframe(
+        x.poses, x.points, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+          if (im.add_keyframe(k, p, n, false, in) && described++ % 8 == 0) {
+            x.in_range.push_back(in);
+            x.cartesian.push_back(filter_scan(in, ScanFilter::Cartesian, ImitationConfig{}));
+            x.polar.push_back(filter_scan(in, ScanFilter::Polar, ImitationConfig{}));
+          }
+        });
     return x;
   }();
   return d;
@@ -71,14 +69,12 @@ void BM_ImitateCrop(benchmark::State& state) {
   for (auto _ : state) {
     ScanImitator im(cfg);
     Cloud in;
-    std::size_t next = 0;
     scans = 0;
-    for (const KeyframePose& k : d.poses) {
-      const std::size_t first = next;
-      while (next < d.points.size() && d.points[next].id <= k.id) ++next;
-      scans += im.add_keyframe(k, d.points.data() + first, next - first, false, in);
-      benchmark::DoNotOptimize(in.data());
-    }
+    for_each_keyframe(d.poses, d.points,
+                      [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+                        scans += im.add_keyframe(k, p, n, false, in);
+                        benchmark::DoNotOptimize(in.data());
+                      });
   }
   per_item(state, scans);
 }
@@ -91,16 +87,14 @@ void BM_ImitateFast(benchmark::State& state) {
   for (auto _ : state) {
     ScanImitator im;
     CameraPoints in;
-    std::size_t next = 0;
     scans = 0;
-    for (const KeyframePose& k : d.poses) {
-      const std::size_t first = next;
-      while (next < d.points.size() && d.points[next].id <= k.id) ++next;
-      if (im.add_keyframe(k, d.points.data() + first, next - first, false, in)) {
-        ++scans;
-        benchmark::DoNotOptimize(filter_camera_points(in, filter, ImitationConfig{}).data());
-      }
-    }
+    for_each_keyframe(
+        d.poses, d.points, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+          if (im.add_keyframe(k, p, n, false, in)) {
+            ++scans;
+            benchmark::DoNotOptimize(filter_camera_points(in, filter, ImitationConfig{}).data());
+          }
+        });
   }
   per_item(state, scans);
 }
@@ -181,12 +175,10 @@ void BM_RecognizerStream(benchmark::State& state) {
   const Data& d = data();
   for (auto _ : state) {
     Recognizer r(RecognizerConfig::make(Method::ScanContext));
-    std::size_t next = 0;
-    for (const KeyframePose& k : d.poses) {
-      const std::size_t first = next;
-      while (next < d.points.size() && d.points[next].id <= k.id) ++next;
-      benchmark::DoNotOptimize(r.add_keyframe(k, d.points.data() + first, next - first).size());
-    }
+    for_each_keyframe(d.poses, d.points,
+                      [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+                        benchmark::DoNotOptimize(r.add_keyframe(k, p, n).size());
+                      });
   }
   per_item(state, d.poses.size());
 }

@@ -17,6 +17,7 @@
 #include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/text_file_writer.hpp"
 #include "loopscan/io/vo_files.hpp"
+#include "loopscan/core/keyframe_stream.hpp"
 #include "progress.hpp"
 
 namespace loopscan::cli {
@@ -91,18 +92,14 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
                                    : closure::LoopCloser(config);
   std::vector<int> resets = reset_ids;
   std::sort(resets.begin(), resets.end());
-  std::size_t next = 0;
   int accepted = 0;
+  std::size_t done = 0;
   StepProgress bar("close loops", "keyframes", !progress);
-  for (std::size_t k = 0; k < poses.size(); ++k) {
-    const std::size_t first = next;
-    while (next < points.size() && points[next].id <= poses[k].id) ++next;
-    const bool reset = std::binary_search(resets.begin(), resets.end(), poses[k].id);
-    const closure::KeyframeClosure r =
-        closer.add_keyframe(poses[k], points.data() + first, next - first, reset);
-    accepted += int(r.accepted.size());
-    bar.update(k + 1, poses.size());
-  }
+  for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* first, std::size_t n) {
+    const bool reset = std::binary_search(resets.begin(), resets.end(), k.id);
+    accepted += int(closer.add_keyframe(k, first, n, reset).accepted.size());
+    bar.update(++done, poses.size());
+  });
   bar.finish(", " + std::to_string(accepted) + " loops accepted");
   closer.finish();
   ClosureRun run;

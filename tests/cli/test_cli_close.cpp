@@ -9,6 +9,7 @@
 #include "cli/cli_support.hpp"
 #include "support/test_support.hpp"
 #include "loopscan/closure/loop_closer.hpp"
+#include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/io/sodso.hpp"
 
 namespace loopscan {
@@ -69,12 +70,9 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
   const std::vector<KeyframePose> poses = io::read_sodso_poses((s / "poses_history_file.txt").string());
   const std::vector<IdPoint> points = io::read_sodso_points((s / "pts_history_file.txt").string());
   closure::LoopCloser closer(closure::LoopCloserConfig::make(Method::ScanContext));
-  std::size_t next = 0;
-  for (const KeyframePose& k : poses) {
-    const std::size_t first = next;
-    while (next < points.size() && points[next].id <= k.id) ++next;
-    closer.add_keyframe(k, points.data() + first, next - first);
-  }
+  for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+    closer.add_keyframe(k, p, n);
+  });
   closer.finish();
   const std::vector<KeyframePose> online = closer.corrected_poses();
   const std::vector<KeyframePose> written = io::read_sodso_poses((out / "poses_closed.txt").string());

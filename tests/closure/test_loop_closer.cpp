@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "loopscan/closure/loop_closer.hpp"
+#include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/eval/loop_metrics.hpp"
 #include "loopscan/sim/trajectory.hpp"
 #include "loopscan/sim/vo_simulator.hpp"
@@ -43,12 +44,7 @@ const Drive& summer() {
 
 template <typename PerKeyframe>
 void stream(const Drive& d, PerKeyframe&& f) {
-  std::size_t next = 0;
-  for (const KeyframePose& k : d.vo.poses) {
-    const std::size_t first = next;
-    while (next < d.vo.points.size() && d.vo.points[next].id <= k.id) ++next;
-    f(k, d.vo.points.data() + first, next - first);
-  }
+  for_each_keyframe(d.vo.poses, d.vo.points, f);
 }
 
 std::vector<Eigen::Vector3d> centres(const std::vector<KeyframePose>& poses) {

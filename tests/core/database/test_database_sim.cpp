@@ -10,6 +10,7 @@
 
 #include "loopscan/core/database/database.hpp"
 #include "loopscan/core/database/lane_query.hpp"
+#include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/core/pipeline/recognizer.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
@@ -223,12 +224,10 @@ TEST_P(RecognizerStreaming, EqualsDescribeThenQuery) {
       ++described;
     }
   };
-  std::size_t next = 0;
-  for (const KeyframePose& k : vo.poses) {
-    const std::size_t first = next;
-    while (next < vo.points.size() && vo.points[next].id <= k.id) ++next;
-    check(recognizer.add_keyframe(k, vo.points.data() + first, next - first, k.id == reset_id));
-  }
+  for_each_keyframe(vo.poses, vo.points,
+                    [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+                      check(recognizer.add_keyframe(k, p, n, k.id == reset_id));
+                    });
   check(recognizer.finish());
   EXPECT_EQ(described, offline.signatures.size());
   EXPECT_EQ(recognizer.database().size(), described);
@@ -250,14 +249,11 @@ int reverse_top1(const sim::VoOutput& vo, const sim::Trajectory& route, Recogniz
   config.k = 1;
   Recognizer recognizer(config);
   std::vector<KeyframeResult> all;
-  std::size_t next = 0;
-  for (const KeyframePose& k : vo.poses) {
-    const std::size_t first = next;
-    while (next < vo.points.size() && vo.points[next].id <= k.id) ++next;
-    for (KeyframeResult& r : recognizer.add_keyframe(k, vo.points.data() + first, next - first)) {
-      all.push_back(std::move(r));
-    }
-  }
+  for_each_keyframe(vo.poses, vo.points,
+                    [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+                      for (KeyframeResult& r : recognizer.add_keyframe(k, p, n))
+                        all.push_back(std::move(r));
+                    });
   for (KeyframeResult& r : recognizer.finish()) all.push_back(std::move(r));
   int correct = 0;
   revisits = 0;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "core/pipeline/conformance_support.hpp"
+#include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/core/scan/scan_imitator.hpp"
 #include "support/test_support.hpp"
 
@@ -42,31 +43,21 @@ TEST(Conformance, M2dpReferenceModeEveryTwentiethPlace) {
   std::vector<ReadyScan> ready;
   std::vector<Cloud> scans;
   std::vector<int> ids;
-  std::size_t next = 0;
-  for (const KeyframePose& k : f.poses) {
-    const std::size_t first = next;
-    while (next < f.points.size() && f.points[next].id <= k.id) ++next;
-    imitator.push(k, f.points.data() + first, next - first, false, filter_for(Method::M2dp), ready);
+  for_each_keyframe(f.poses, f.points, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+    imitator.push(k, p, n, false, filter_for(Method::M2dp), ready);
     for (ReadyScan& r : ready) {
       ids.push_back(r.keyframe.id);
       scans.push_back(std::move(r.scan));
     }
     ready.clear();
-  }
+  });
   ASSERT_EQ(ids, f.ids);
-  const Eigen::MatrixXd ref =
-      io::read_matrix_text(test::fixture_dir() + "/reference/signatures_m2dp.txt.gz");
-  const int rows = rows_per_place(Method::M2dp);
-  ASSERT_EQ(ref.rows(), static_cast<Eigen::Index>(ids.size()) * rows);
+  const Eigen::MatrixXd ref = conformance::reference_signatures(Method::M2dp);
+  ASSERT_EQ(ref.rows(), static_cast<Eigen::Index>(ids.size()) * rows_per_place(Method::M2dp));
   int compared = 0;
   for (std::size_t i = 0; i < scans.size(); i += 20, ++compared) {
     const Signature mine = describe(Method::M2dp, scans[i], options.descriptors);
-    for (int r = 0; r < rows; ++r) {
-      const Eigen::RowVectorXd theirs = ref.row(static_cast<Eigen::Index>(i) * rows + r);
-      const double scale = std::max(theirs.cwiseAbs().maxCoeff(), 1e-12);
-      EXPECT_LE((mine.row(r) - theirs).cwiseAbs().maxCoeff() / scale, 1e-6)
-          << "place " << i << " row " << r;
-    }
+    EXPECT_LE(conformance::place_error(ref, i, mine), 1e-6) << "place " << i;
   }
   EXPECT_GE(compared, 40);
 }

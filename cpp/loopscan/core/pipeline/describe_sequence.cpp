@@ -1,5 +1,6 @@
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 
+#include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/core/parallel.hpp"
 #include "loopscan/core/timing.hpp"
 
@@ -96,19 +97,17 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
     }
     ready.clear();
   };
-  std::size_t next_point = 0;
-  for (const KeyframePose& keyframe : poses) {
-    const std::size_t first = next_point;
-    while (next_point < points.size() && points[next_point].id <= keyframe.id) ++next_point;
-    const bool reset = std::binary_search(resets.begin(), resets.end(), keyframe.id);
-    const auto t0 = std::chrono::steady_clock::now();
-    imitator.push(keyframe, points.data() + first, next_point - first, reset, filter, ready);
-    out.imitate_ms += ms_since(t0);
-    take();
-    // The last keyframe is reported after the final descriptions, not before them.
-    const std::size_t walked = std::size_t(&keyframe - poses.data()) + 1;
-    if (walked < poses.size()) report_progress(options.progress, walked, poses.size());
-  }
+  std::size_t walked = 0;
+  for_each_keyframe(
+      poses, points, [&](const KeyframePose& keyframe, const IdPoint* first, std::size_t count) {
+        const bool reset = std::binary_search(resets.begin(), resets.end(), keyframe.id);
+        const auto t0 = std::chrono::steady_clock::now();
+        imitator.push(keyframe, first, count, reset, filter, ready);
+        out.imitate_ms += ms_since(t0);
+        take();
+        // The last keyframe is reported after the final descriptions, not before them.
+        if (++walked < poses.size()) report_progress(options.progress, walked, poses.size());
+      });
   const auto t0 = std::chrono::steady_clock::now();
   imitator.finish(filter, ready);
   out.imitate_ms += ms_since(t0);
