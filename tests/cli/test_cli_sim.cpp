@@ -241,9 +241,8 @@ TEST(Cli, RenderWritesTheKittiOdometryLayout) {
   ASSERT_EQ(r.code, 0) << r.output;
   for (int cam = 0; cam < 2; ++cam) {
     for (int i = 0; i < 3; ++i) {
-      const std::string number = std::to_string(i);
-      const std::string name = "image_" + std::to_string(cam) + "/" +
-                               std::string(6 - number.size(), '0') + number + ".png";
+      char name[64];  // room for any two ints: no truncation warning
+      std::snprintf(name, sizeof name, "image_%d/%06d.png", cam, i);
       EXPECT_TRUE(fs::exists(d / "seq" / name)) << name;
     }
   }

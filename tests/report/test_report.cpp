@@ -14,10 +14,7 @@
 
 namespace lr = loopscan::report;
 
-using loopscan::test::count;
-using loopscan::test::line_points;
-using loopscan::test::path_data;
-using loopscan::test::xml_problem;
+using namespace loopscan::test;  // the SVG checks of svg_checks.hpp
 
 namespace {
 
