@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 
 #include <nlohmann/json.hpp>
 
@@ -59,7 +60,9 @@ void write_figure_files(const report::HtmlPage& page, const std::string& dir) {
 void run_demo(const DemoArgs& a) {
   const auto t_start = std::chrono::steady_clock::now();
   // One numbered line per step; each part then ends with its own time (progress.hpp).
-  StepCounter steps(8);
+  constexpr Method kMethods[] = {Method::ScanContext, Method::M2dp, Method::Delight};
+  // Steps: world, the two drives, one per method, loop closing, report.
+  StepCounter steps(1 + 2 + static_cast<int>(std::size(kMethods)) + 2);
   steps.next("route and world");
   StepProgress world_time("  world", "objects");
   const LoadedTrajectory route = load_trajectory(a.trajectory);
@@ -91,7 +94,7 @@ void run_demo(const DemoArgs& a) {
   DemoResults results;
   results.route = &route.trajectory;
   results.threads = a.threads;
-  for (Method method : {Method::ScanContext, Method::M2dp, Method::Delight}) {
+  for (Method method : kMethods) {
     steps.next(method_name(method) +
                ": describe both drives, then match summer against itself and "
                "winter against summer");

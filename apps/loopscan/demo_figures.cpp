@@ -63,9 +63,8 @@ std::string scan_figure(const ExampleScan& e) {
 }
 
 // One half of the default Scan Context (row 0, the place itself) as rings x sectors.
-std::string scan_context_figure(const ExampleScan& e, const SequenceOptions& options,
-                                bool intensity) {
-  const ScanContextConfig& c = options.descriptors.scan_context;
+std::string scan_context_figure(const ExampleScan& e, bool intensity) {
+  const ScanContextConfig& c = e.config;
   const int rings = c.rings, sectors = c.sectors, offset = intensity ? rings * sectors : 0;
   Eigen::MatrixXd image(rings, sectors);
   for (int s = 0; s < sectors; ++s) {
@@ -96,6 +95,7 @@ ExampleScan example_scan(const sim::VoOutput& vo, const SequenceOptions& options
   e.keyframe_id = middle;
   e.scan = std::move(scans[middle]);
   e.scan_context = describe(Method::ScanContext, e.scan, options.descriptors);
+  e.config = options.descriptors.scan_context;
   return e;
 }
 
@@ -144,11 +144,8 @@ report::HtmlPage demo_page(const DemoResults& r) {
   page.figures.push_back({"Places recognised by Scan Context, winter vs summer",
                           route_figure(r.methods.front(), true)});
   page.figures.push_back({"One imitated scan", scan_figure(r.example)});
-  const SequenceOptions sc_options = SequenceOptions::make(Method::ScanContext, Mode::Default);
-  page.figures.push_back(
-      {"Its Scan Context, structure", scan_context_figure(r.example, sc_options, false)});
-  page.figures.push_back(
-      {"Its Scan Context, intensity", scan_context_figure(r.example, sc_options, true)});
+  page.figures.push_back({"Its Scan Context, structure", scan_context_figure(r.example, false)});
+  page.figures.push_back({"Its Scan Context, intensity", scan_context_figure(r.example, true)});
   page.figures.insert(page.figures.end(), r.opposite.begin(), r.opposite.end());
   return page;
 }

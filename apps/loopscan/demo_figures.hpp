@@ -23,6 +23,7 @@ struct ExampleScan {
   int keyframe_id = -1;
   Cloud scan;  // camera frame, Cartesian-filtered
   Signature scan_context;
+  ScanContextConfig config;  // what it was described with (rings, sectors, radius)
 };
 
 struct DemoResults {
