@@ -77,15 +77,13 @@ void run_demo(const DemoArgs& a) {
   const char* names[2] = {"summer", "winter"};
   for (int i = 0; i < 2; ++i) {
     steps.next(std::string("the ") + names[i] + " drive: simulated stereo VO");
-    StepProgress progress("  simulate", "keyframes");
     sim::Conditions c = sim::Conditions::for_season(sim::parse_season(names[i]));
     c.session_seed = 100 + i;
     sim::VoSimConfig vo;
     vo.seed = c.noise_seed(a.seed);
-    vo.progress = progress.callback();
-    sessions.push_back(simulate_session(route, world, c, camera, vo, {}));
-    progress.finish();
-    vo.progress = {};
+    sessions.push_back(with_progress("  simulate", "keyframes", false, vo.progress, [&] {
+      return simulate_session(route, world, c, camera, vo, {});
+    }));
     write_session(a.out + "/" + names[i], route, sessions.back());
     // From here on the session is its files: `describe` + `evaluate` on them recompute the table.
     reload_session(a.out + "/" + names[i], route, sessions.back());
@@ -105,33 +103,24 @@ void run_demo(const DemoArgs& a) {
     SequenceSignatures sig[2];
     std::vector<Eigen::Vector3d> pos[2];
     for (int i = 0; i < 2; ++i) {
-      StepProgress progress(std::string("  describe ") + names[i], "keyframes");
-      options.progress = progress.callback();
-      sig[i] =
-          describe_as_written(sessions[i].vo.poses, sessions[i].vo.points, options, Mode::Default);
-      progress.finish();
-      options.progress = {};  // `progress` ends here; `options` lives on
+      sig[i] = with_progress(
+          std::string("  describe ") + names[i], "keyframes", false, options.progress, [&] {
+            return describe_as_written(sessions[i].vo.poses, sessions[i].vo.points, options,
+                                       Mode::Default);
+          });
       for (int id : sig[i].keyframe_ids) pos[i].push_back(sessions[i].gt_positions[id]);
     }
     mr.imitate_ms = sig[0].imitate_ms;
     mr.describe_ms = sig[0].describe_ms;
     eval::PlaceEvaluationOptions eo = eval::PlaceEvaluationOptions::make(method, Mode::Default);
     eo.threads = a.threads;
-    {
-      StepProgress progress("  match summer vs summer", "rows");
-      eo.progress = progress.callback();
-      mr.same = eval::evaluate_places(sig[0].signatures, sig[0].signatures, pos[0], pos[0], eo);
-      progress.finish();
-      eo.progress = {};
-    }
-    {
-      StepProgress progress("  match winter vs summer", "rows");
-      eo.progress = progress.callback();
-      eo.protocol = eval::cross_session_protocol();
-      mr.cross = eval::evaluate_places(sig[1].signatures, sig[0].signatures, pos[1], pos[0], eo);
-      progress.finish();
-      eo.progress = {};
-    }
+    mr.same = with_progress("  match summer vs summer", "rows", false, eo.progress, [&] {
+      return eval::evaluate_places(sig[0].signatures, sig[0].signatures, pos[0], pos[0], eo);
+    });
+    eo.protocol = eval::cross_session_protocol();
+    mr.cross = with_progress("  match winter vs summer", "rows", false, eo.progress, [&] {
+      return eval::evaluate_places(sig[1].signatures, sig[0].signatures, pos[1], pos[0], eo);
+    });
     mr.map_positions = pos[0];
     mr.query_positions = pos[1];
     std::vector<Eigen::Vector3d> heading[2];

@@ -45,6 +45,22 @@ class StepCounter {
   int steps_, done_ = 0;
 };
 
+// Runs work() with `slot` (an options struct's progress callback) drawing one part of a step,
+// then ends it: the summary line, and the slot emptied so it never outlives the bar.
+template <typename Work>
+auto with_progress(const std::string& label, const std::string& unit, bool quiet, ProgressFn& slot,
+                   Work&& work) {
+  StepProgress bar(label, unit, quiet);
+  slot = bar.callback();
+  struct Clear {
+    ProgressFn& slot;
+    ~Clear() { slot = {}; }
+  } clear{slot};
+  auto result = work();
+  bar.finish();
+  return result;
+}
+
 // "12 s", "3 min 05 s": for remaining times and step times.
 std::string format_duration(double seconds);
 

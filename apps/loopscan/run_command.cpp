@@ -100,11 +100,9 @@ void run_all(const RunArgs& a) {
       const Method method = parse_method(name);
       SequenceOptions options = SequenceOptions::make(method, mode);
       options.threads = std::max(1, a.threads);
-      StepProgress describing("  describe", "keyframes", a.vo.quiet);
-      options.progress = describing.callback();
-      const SequenceSignatures sig =
-          describe_as_written(vo.run.keyframe_poses, vo.run.points, options, mode);
-      describing.finish();
+      const SequenceSignatures sig = with_progress(
+          "  describe", "keyframes", a.vo.quiet, options.progress,
+          [&] { return describe_as_written(vo.run.keyframe_poses, vo.run.points, options, mode); });
       write_signatures(dir, sig, method);
       r.keyframe_ids = sig.keyframe_ids;
       r.prepare_ms = sig.imitate_ms;
@@ -120,11 +118,11 @@ void run_all(const RunArgs& a) {
         eval::PlaceEvaluationOptions eo = eval::PlaceEvaluationOptions::make(method, mode);
         eo.threads = std::max(1, a.threads);
         const std::vector<Eigen::Vector3d> positions = positions_of(sig.keyframe_ids);
-        StepProgress matching("  match", "rows", a.vo.quiet);
-        eo.progress = matching.callback();
         const eval::PlaceEvaluation ev =
-            eval::evaluate_places(sig.signatures, sig.signatures, positions, positions, eo);
-        matching.finish();
+            with_progress("  match", "rows", a.vo.quiet, eo.progress, [&] {
+              return eval::evaluate_places(sig.signatures, sig.signatures, positions, positions,
+                                           eo);
+            });
         r.pr = ev.pr;
         r.query_ms = ev.query_ms;
         r.by_direction = split(r.keyframe_ids);
