@@ -36,9 +36,9 @@ void bind_io(py::module_& m) {
       py::arg("path"), py::arg("format") = "kitti",
       "Ground truth, one position a line: KITTI poses (camera-to-world 3x4) or RobotCar GPS "
       "(northing easting down) -> float64 (N, 3).");
-  py::class_<LoadedSignatures> set(m, "SignatureSet", "A `describe` output: signatures and ids.");
-  bind_places<LoadedSignatures>(set);
-  set.def_readonly("positions", &LoadedSignatures::positions,
+  py::class_<LoadedSignatures> cls(m, "SignatureSet", "A `describe` output: signatures and ids.");
+  bind_places<LoadedSignatures>(cls);
+  cls.def_readonly("positions", &LoadedSignatures::positions,
                    "ground-truth position of each place (empty without gt)")
       .def("__repr__", [](const LoadedSignatures& s) {
         return "<SignatureSet: " + std::to_string(py::len(s.places.signatures)) + " places" +
