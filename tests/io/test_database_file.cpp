@@ -140,9 +140,12 @@ TEST_F(DatabaseFile, WrongVersionMagicAndParametersHaveClearErrors) {
     }
     return std::string("loaded");
   };
-  std::string v3 = good;
-  v3[8] = 3;
-  EXPECT_NE(message(v3).find("format version 3"), std::string::npos) << message(v3);
+  std::string v4 = good;
+  v4[8] = 4;
+  EXPECT_NE(message(v4).find("format version 4"), std::string::npos) << message(v4);
+  std::string storage = good;
+  storage[40] = 7;  // the storage field after the header's columns
+  EXPECT_NE(message(storage).find("place storage 7"), std::string::npos) << message(storage);
   EXPECT_NE(message("PK\x03\x04 not a database").find("LOOPSCDB"), std::string::npos);
   DatabaseConfig m2dp;
   m2dp.method = Method::M2dp;
@@ -198,13 +201,15 @@ TEST_F(DatabaseFile, PlaceCloudsRoundTripToTheCentimetreAndVersion1StillLoads) {
   }
   io::save_database(db, path("d.db"), &back);  // a loaded set saves to the same bytes
   EXPECT_EQ(read_bytes(path("c.db")), read_bytes(path("d.db")));
-  // A file without clouds gives none; a version-1 file (no cloud section at all) loads.
+  // A file without clouds gives none; a version-1 file (no cloud section, no storage field)
+  // loads.
   io::save_database(db, path("n.db"));
   EXPECT_EQ(io::load_database(path("n.db"), nullptr, &back).size(), 3u);
   EXPECT_TRUE(back.empty());
   std::string v1 = read_bytes(path("n.db"));
   v1[8] = 1;
   v1.erase(v1.size() - 5, 1);  // the cloud flag before the checksum
+  v1.erase(40, 4);             // the storage field (version 3)
   const auto crc = static_cast<std::uint32_t>(
       crc32(0L, reinterpret_cast<const Bytef*>(v1.data()), static_cast<uInt>(v1.size() - 4)));
   std::memcpy(&v1[v1.size() - 4], &crc, 4);
@@ -216,6 +221,43 @@ TEST_F(DatabaseFile, PlaceCloudsRoundTripToTheCentimetreAndVersion1StillLoads) {
   clouds.pop_back();
   EXPECT_THROW(io::save_database(db, path("bad.db"), &clouds), std::invalid_argument);
   EXPECT_FALSE(std::filesystem::exists(path("bad.db")));
+}
+
+// Compact Scan Context places save and load as they are (no re-quantisation), answer as
+// before, and say so in the file; the loader rebuilds the compact store.
+TEST_F(DatabaseFile, CompactPlacesRoundTripByteForByte) {
+  std::mt19937 rng(3);
+  DatabaseConfig cfg;
+  cfg.storage = PlaceStorage::Compact;
+  Database db(cfg);
+  std::vector<Signature> places;
+  for (int i = 0; i < 40; ++i) {
+    places.push_back(random_place(Method::ScanContext, rng));
+    db.add({0, i}, {places.back()});
+  }
+  io::save_database(db, path("compact.db"));
+  const Database back = io::load_database(path("compact.db"));
+  EXPECT_EQ(back.config().storage, PlaceStorage::Compact);
+  EXPECT_EQ(back.payload_floats(), db.payload_floats());
+  io::save_database(back, path("compact2.db"));
+  EXPECT_EQ(read_bytes(path("compact.db")), read_bytes(path("compact2.db")));
+  QueryOptions exact;
+  exact.retrieval = Retrieval::Exact;
+  for (int i = 0; i < 40; i += 7) {
+    const auto a = db.query({places[i]}, 3, exact), b = back.query({places[i]}, 3, exact);
+    ASSERT_EQ(a.size(), 3u);
+    ASSERT_EQ(b.size(), 3u);
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_EQ(a[j].index, b[j].index);
+      EXPECT_EQ(a[j].distance, b[j].distance);
+    }
+    EXPECT_EQ(a[0].index, static_cast<std::size_t>(i));
+  }
+  // The full file of the same places is ~3.4x larger.
+  Database full;
+  for (int i = 0; i < 40; ++i) full.add({0, i}, {places[i]});
+  io::save_database(full, path("full.db"));
+  EXPECT_GT(fs::file_size(path("full.db")), 3 * fs::file_size(path("compact.db")));
 }
 
 }  // namespace

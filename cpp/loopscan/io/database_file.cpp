@@ -126,6 +126,7 @@ void save_database(const Database& db, const std::string& path,
   w.put<std::int32_t>(c.scan_context.rings);
   w.put<std::int32_t>(c.scan_context.sectors);
   w.put<std::int32_t>(c.columns > 0 ? c.columns : signature_columns(c.method));
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(c.storage));
   w.put<std::uint32_t>(static_cast<std::uint32_t>(db.payload_floats()));
   w.put<std::uint64_t>(db.size());
   std::vector<float> payload(static_cast<std::size_t>(db.payload_floats()));
@@ -179,7 +180,7 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
     r.fail("not a loopscan place database (expected the magic \"LOOPSCDB\")");
   }
   const auto version = r.get<std::uint32_t>("the format version");
-  if (version != 1 && version != kDatabaseFileVersion) {
+  if (version < 1 || version > kDatabaseFileVersion) {
     r.fail("format version " + std::to_string(version) + ", this build reads versions 1 to " +
            std::to_string(kDatabaseFileVersion));
   }
@@ -210,6 +211,11 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
   if (c.columns <= 0 || c.columns > (1 << 20)) {
     r.fail("signature width " + std::to_string(c.columns) + ", expected 1..1048576");
   }
+  if (version >= 3) {
+    const auto storage = r.get<std::uint32_t>("the place storage");
+    if (storage > 1) r.fail("place storage " + std::to_string(storage) + ", expected 0 or 1");
+    c.storage = static_cast<PlaceStorage>(storage);
+  }
   if (expected && !same_parameters(c, *expected)) {
     r.fail("built with " + describe(c) + ", expected " + describe(*expected));
   }
@@ -228,8 +234,9 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
   const auto count = r.get<std::uint64_t>("the place count");
   // The size must fit the count before anything is allocated for it.
   const std::uintmax_t record = kPlaceFixedBytes + std::uintmax_t(floats) * 4;
-  const std::uintmax_t body = file_size - kHeaderBytes;
-  if (file_size < kHeaderBytes + 4 || count > (body - 4) / record) {
+  const std::size_t header = kHeaderBytes + (version >= 3 ? 4 : 0);
+  const std::uintmax_t body = file_size - header;
+  if (file_size < header + 4 || count > (body - 4) / record) {
     r.fail("the file is too short for " + std::to_string(count) + " places (truncated?)");
   }
 

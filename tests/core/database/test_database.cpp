@@ -25,7 +25,7 @@ using test::random_signature;
 
 TEST(KeyIndex, NearestEqualsBruteForceAmongEligible) {
   for (int dims : {2, 20}) {
-    for (std::size_t n : {1u, 7u, 100u, 2000u}) {
+    for (std::size_t n : {1u, 7u, 100u, 2000u, 3500u, 5000u}) {  // trees + tail
       std::mt19937 rng(static_cast<unsigned>(dims * 10007 + n));
       std::normal_distribution<float> g;
       const std::size_t stride = dims + 3;

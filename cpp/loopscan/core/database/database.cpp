@@ -17,7 +17,7 @@ std::unique_ptr<PlaceStore> make_store(const DatabaseConfig& c) {
   const int columns = c.columns > 0 ? c.columns : signature_columns(c.method);
   switch (c.method) {
     case Method::ScanContext:
-      return make_scan_context_store(c.scan_context);
+      return make_scan_context_store(c.scan_context, c.storage);
     case Method::M2dp:
       return make_m2dp_store(columns);
     case Method::Delight:
@@ -44,6 +44,24 @@ RowStats stats_of(const std::vector<double>& raw, int components, int c) {
 }
 
 double zscore(double x, const RowStats& s) { return s.stddev > 0 ? (x - s.mean) / s.stddev : 0.0; }
+
+// `want` eligible places among the first `limit`, spread evenly over them (or the first ones
+// when filters leave few eligible places).
+std::vector<std::size_t> stats_sample(const Eligible& eligible, std::size_t limit, int wanted) {
+  std::vector<std::size_t> sample;
+  const std::size_t want = static_cast<std::size_t>(std::max(2, wanted));
+  const std::size_t step = std::max<std::size_t>(1, limit / want);
+  for (std::size_t i = 0; i < limit && sample.size() < want; i += step) {
+    if (eligible(i)) sample.push_back(i);
+  }
+  if (sample.size() < want / 2) {
+    sample.clear();
+    for (std::size_t i = 0; i < limit && sample.size() < want; ++i) {
+      if (eligible(i)) sample.push_back(i);
+    }
+  }
+  return sample;
+}
 
 }  // namespace
 
@@ -109,60 +127,73 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
   }
   if (scored.empty()) return {};
   const int C = store_->components();
-  std::vector<double> raw(scored.size() * C);
-  // Exact search over many places may use several threads (results identical: each place's
-  // distances are computed the same way whichever thread does it).
-  const int threads = scored.size() >= 256 ? std::max(1, options.threads) : 1;
-  run_on_threads(threads, [&](int t) {
-    for (std::size_t j = static_cast<std::size_t>(t); j < scored.size(); j += threads) {
-      store_->distances(*query, store_->record(scored[j]), &raw[j * C]);
-    }
-  });
 
-  // Row statistics: the whole eligible row, or a sample of it spread over the database.
+  // Row statistics: the whole eligible row (exact: computed below from the scores), or a
+  // sample of it spread over the database.
   const bool fused = C == 2 && config_.fusion == Fusion::Fused;
   const bool need_stats = fused || options.uniqueness_ratio < 1.0;
-  std::vector<double> sample_raw;
-  const std::vector<double>* stats_rows = &raw;
+  RowStats stats[2];
   if (need_stats && !exact) {
-    std::vector<std::size_t> sample;
-    const std::size_t want = static_cast<std::size_t>(std::max(2, options.stats_sample));
-    const std::size_t step = std::max<std::size_t>(1, limit / want);
-    for (std::size_t i = 0; i < limit && sample.size() < want; i += step) {
-      if (eligible(i)) sample.push_back(i);
-    }
-    if (sample.size() < want / 2) {  // few eligible places (filters): take them in order
-      sample.clear();
-      for (std::size_t i = 0; i < limit && sample.size() < want; ++i) {
-        if (eligible(i)) sample.push_back(i);
-      }
-    }
-    sample_raw.resize(sample.size() * C);
+    const std::vector<std::size_t> sample = stats_sample(eligible, limit, options.stats_sample);
+    std::vector<double> sample_raw(sample.size() * C);
     for (std::size_t j = 0; j < sample.size(); ++j) {
       store_->distances(*query, store_->record(sample[j]), &sample_raw[j * C]);
     }
-    stats_rows = &sample_raw;
+    for (int c = 0; c < C; ++c) stats[c] = stats_of(sample_raw, C, c);
   }
-  RowStats stats[2];
-  if (need_stats) {
-    for (int c = 0; c < C; ++c) stats[c] = stats_of(*stats_rows, C, c);
+
+  std::vector<double> raw(scored.size() * C);
+  const bool first_pass = !exact && options.refine > 0 && store_->partial_first_pass(*query);
+  if (exact) {
+    // Many places may be scored on several threads (results identical: each place's
+    // distances are computed the same way whichever thread does it).
+    const int threads = scored.size() >= 256 ? std::max(1, options.threads) : 1;
+    run_on_threads(threads, [&](int t) {
+      for (std::size_t j = static_cast<std::size_t>(t); j < scored.size(); j += threads) {
+        store_->distances(*query, store_->record(scored[j]), &raw[j * C]);
+      }
+    });
+    if (need_stats) {
+      for (int c = 0; c < C; ++c) stats[c] = stats_of(raw, C, c);
+    }
+  } else {
+    for (std::size_t j = 0; j < scored.size(); ++j) {
+      if (first_pass) {
+        store_->first_pass(*query, j, store_->record(scored[j]), &raw[j * C]);
+      } else {
+        store_->distances(*query, store_->record(scored[j]), &raw[j * C]);
+      }
+    }
   }
 
   // One distance per scored place, and the row mean on the same scale.
   const int part = config_.fusion == Fusion::Intensity && C == 2 ? 1 : 0;
+  auto distance_of = [&](const double* d) {
+    return fused ? config_.structure_weight * zscore(d[0], stats[0]) + zscore(d[1], stats[1])
+                 : d[part];
+  };
   std::vector<Candidate> ranked(scored.size());
   for (std::size_t j = 0; j < scored.size(); ++j) {
-    const double* d = &raw[j * C];
     Candidate& c = ranked[j];
     c.index = scored[j];
     c.place = places_[scored[j]];
-    c.distance = fused ? config_.structure_weight * zscore(d[0], stats[0]) + zscore(d[1], stats[1])
-                       : d[part];
+    c.distance = distance_of(&raw[j * C]);
   }
-  const double row_mean = fused ? 0.0 : stats[part].mean;
   auto better = [](const Candidate& a, const Candidate& b) {
     return a.distance < b.distance || (a.distance == b.distance && a.index < b.index);
   };
+  if (first_pass) {
+    // The first pass bounds every distance from above; the best few get their exact one.
+    const std::size_t n_refine =
+        std::min(ranked.size(), static_cast<std::size_t>(std::max(options.refine, k)));
+    std::partial_sort(ranked.begin(), ranked.begin() + n_refine, ranked.end(), better);
+    double d[2];
+    for (std::size_t j = 0; j < n_refine; ++j) {
+      store_->distances(*query, store_->record(ranked[j].index), d);
+      ranked[j].distance = distance_of(d);
+    }
+  }
+  const double row_mean = fused ? 0.0 : stats[part].mean;
   // Only the head of the ranking is needed: the k results, and for the uniqueness test the
   // best distinct place, almost always among the first few dozen (else sort it all).
   std::size_t head = std::min(ranked.size(), static_cast<std::size_t>(k) + 64);

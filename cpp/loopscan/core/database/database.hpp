@@ -31,6 +31,11 @@ struct PlaceDescriptor {
   Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
 };
 
+// How a place's Scan Context spectra are kept: floats (exact), or one signed byte per value
+// with a scale per ring (compact_spectra.hpp: ~2.9 KB a place instead of ~10 KB; distances
+// change by the rounding only). M2DP and DELIGHT places are always full.
+enum class PlaceStorage { Full, Compact };
+
 struct DatabaseConfig {
   Method method = Method::ScanContext;
   // SC and M2DP: fused as in the paper, or one half alone. Ignored for DELIGHT.
@@ -40,6 +45,7 @@ struct DatabaseConfig {
   ScanContextConfig scan_context;
   // Columns of an M2DP or DELIGHT signature; 0: the default parameters' width.
   int columns = 0;
+  PlaceStorage storage = PlaceStorage::Full;
 };
 
 enum class Retrieval { Exact, Indexed };
@@ -66,6 +72,10 @@ struct QueryOptions {
   // keyframes away. A query that fails returns no results.
   double uniqueness_ratio = 1.0;
   int distinct_gap = 50;
+  // Scan Context with lateral versions: indexed candidates are first scored with only the
+  // query versions whose index search proposed them; the best `refine` (at least k) are then
+  // scored with every version. 0: every candidate with every version.
+  int refine = 16;
   // Threads scoring the places of an exact search (1: the caller's thread only).
   int threads = 1;
 };

@@ -26,6 +26,8 @@ void validate(const DatabaseConfig& c) {
        "adaptive fusion weighs a whole set of queries at once (evaluate); a database fuses "
        "each query on its own: use fused, structure or intensity");
   need(c.columns >= 0 && c.columns <= (1 << 20), "DatabaseConfig", "columns must be in [0, 2^20]");
+  need(c.storage == PlaceStorage::Full || c.method == Method::ScanContext, "DatabaseConfig",
+       "compact storage is for Scan Context places (M2DP and DELIGHT places are already small)");
 }
 
 void validate(const QueryOptions& o, int k) {
@@ -37,23 +39,28 @@ void validate(const QueryOptions& o, int k) {
   need(o.stats_sample >= 2 && o.stats_sample <= 1000000, who,
        "stats_sample must be in [2, 1000000]");
   need(o.exclude_recent >= 0, who, "exclude_recent must be >= 0");
+  need(o.refine >= 0 && o.refine <= 1000000, who, "refine must be in [0, 1000000]");
   need(in(o.uniqueness_ratio, 0.0, 1.0), who, "uniqueness_ratio must be in [0, 1]");
   need(!std::isnan(o.max_distance), who, "max_distance must not be NaN");
   need(o.distinct_gap >= 0, who, "distinct_gap must be >= 0");
   need(o.threads >= 1 && o.threads <= 1024, who, "threads must be in [1, 1024]");
 }
 
+// The message is built only on failure: queries check thousands of values each.
 void require_finite_values(const float* values, std::size_t n, const char* who) {
   for (std::size_t i = 0; i < n; ++i) {
-    need(std::abs(values[i]) <= kMaxValue, who,
-         "value " + std::to_string(i) + " is NaN, infinite or beyond +-1e30");
+    if (!(std::abs(values[i]) <= kMaxValue)) {
+      need(false, who, "value " + std::to_string(i) + " is NaN, infinite or beyond +-1e30");
+    }
   }
 }
 
 void require_finite_values(const Signature& s, const char* who) {
   for (Eigen::Index i = 0; i < s.size(); ++i) {
-    need(std::abs(s.data()[i]) <= kMaxValue, who,
-         "signature value " + std::to_string(i) + " is NaN, infinite or beyond +-1e30");
+    if (!(std::abs(s.data()[i]) <= kMaxValue)) {
+      need(false, who,
+           "signature value " + std::to_string(i) + " is NaN, infinite or beyond +-1e30");
+    }
   }
 }
 

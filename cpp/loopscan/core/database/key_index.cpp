@@ -8,13 +8,15 @@
 namespace loopscan {
 namespace {
 
-struct PayloadKeys {
+// The keys of places [first, first + size) of the shared key array, as nanoflann sees them.
+struct KeyRange {
+  const std::vector<float>* keys = nullptr;
   int dims = 0;
-  std::vector<float> keys;     // dims per place
-  std::size_t count = 0;       // places added
-  std::size_t tree_count = 0;  // places in the tree (the first ones)
-  std::size_t kdtree_get_point_count() const { return tree_count; }
-  float kdtree_get_pt(std::uint32_t i, std::size_t d) const { return keys[i * dims + d]; }
+  std::size_t first = 0, size = 0;
+  std::size_t kdtree_get_point_count() const { return size; }
+  float kdtree_get_pt(std::uint32_t i, std::size_t d) const {
+    return (*keys)[(first + i) * dims + d];
+  }
   template <class Box>
   bool kdtree_get_bbox(Box&) const {
     return false;
@@ -22,7 +24,7 @@ struct PayloadKeys {
 };
 
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<
-    nanoflann::L2_Simple_Adaptor<float, PayloadKeys, float, std::uint32_t>, PayloadKeys, -1,
+    nanoflann::L2_Simple_Adaptor<float, KeyRange, float, std::uint32_t>, KeyRange, -1,
     std::uint32_t>;
 
 // k-nearest result set that skips places the query may not match, so the tree's pruning
@@ -40,8 +42,11 @@ class EligibleKnn {
   float worstDist() const {
     return full() ? items_.front().first : std::numeric_limits<float>::max();
   }
-  bool addPoint(float dist, std::uint32_t index) {
+  // Tree searches report indices local to their range: `offset` turns them into places.
+  void set_offset(std::size_t offset) { offset_ = offset; }
+  bool addPoint(float dist, std::uint32_t local) {
     if (full() && dist >= items_.front().first) return true;
+    const std::size_t index = offset_ + local;
     if (!eligible_(index)) return true;
     items_.emplace_back(dist, index);  // max-heap on distance: the worst kept is in front
     std::push_heap(items_.begin(), items_.end());
@@ -58,6 +63,7 @@ class EligibleKnn {
 
  private:
   std::size_t capacity_;
+  std::size_t offset_ = 0;
   const std::function<bool(std::size_t)>& eligible_;
   std::vector<std::pair<float, std::size_t>> items_;
 };
@@ -67,17 +73,36 @@ constexpr std::size_t kScanShare = 32;
 
 }  // namespace
 
-// One static tree over the first places plus a short tail searched by brute force; the tree
-// is rebuilt when the tail reaches half its size (amortised O(log n) per added place). A
-// single tree searches several times faster than nanoflann's dynamic forest of log2(n) trees.
+// Two static trees and a short tail searched by brute force: the main tree over the first
+// places, a second tree over the places added since, rebuilt whenever the tail reaches
+// kTail places, and merged into the main tree when it reaches half the main tree's size.
+// Adding stays amortised O(log n) a place, and a query never scans more than kTail keys.
+// Static trees search several times faster than nanoflann's dynamic forest of log2(n) trees.
+constexpr std::size_t kTail = 1024;
+
 struct KeyIndex::Impl {
-  PayloadKeys keys;
-  std::unique_ptr<Tree> tree;
-  explicit Impl(int dims) : keys{dims, {}, 0, 0} {}
-  void rebuild() {
-    keys.tree_count = keys.count;
-    tree = std::make_unique<Tree>(keys.dims, keys, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  int dims;
+  std::vector<float> keys;  // dims per place
+  std::size_t count = 0;
+  KeyRange main_range, second_range;
+  std::unique_ptr<Tree> main, second;
+  explicit Impl(int d) : dims(d) {}
+  std::unique_ptr<Tree> build(KeyRange& range, std::size_t first, std::size_t end) {
+    range = KeyRange{&keys, dims, first, end - first};
+    if (range.size == 0) return nullptr;
+    auto tree = std::make_unique<Tree>(dims, range, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     tree->buildIndex();
+    return tree;
+  }
+  std::size_t tail_first() const { return second_range.first + second_range.size; }
+  void added() {
+    if (count - tail_first() < kTail) return;
+    if (count - main_range.size > std::max(kTail, main_range.size / 2)) {
+      main = build(main_range, 0, count);
+      second = build(second_range, count, count);
+    } else {
+      second = build(second_range, main_range.size, count);
+    }
   }
 };
 
@@ -85,21 +110,25 @@ KeyIndex::KeyIndex(int dims) : impl_(std::make_unique<Impl>(dims)) {}
 KeyIndex::~KeyIndex() = default;
 
 void KeyIndex::add(const float* key) {
-  PayloadKeys& k = impl_->keys;
+  Impl& k = *impl_;
+  if (k.keys.capacity() == k.keys.size()) {
+    // The trees hold a pointer to the vector, not its data: growing it is safe.
+    k.keys.reserve(std::max<std::size_t>(1024, k.keys.size() * 2));
+  }
   k.keys.insert(k.keys.end(), key, key + k.dims);
   ++k.count;
-  if (k.count - k.tree_count > std::max<std::size_t>(64, k.tree_count / 2)) impl_->rebuild();
+  k.added();
 }
 
-std::size_t KeyIndex::size() const { return impl_->keys.count; }
-int KeyIndex::dims() const { return impl_->keys.dims; }
+std::size_t KeyIndex::size() const { return impl_->count; }
+int KeyIndex::dims() const { return impl_->dims; }
 
 void KeyIndex::nearest(const float* key, std::size_t count,
                        const std::function<bool(std::size_t)>& eligible,
                        std::vector<std::pair<float, std::size_t>>& out) const {
   out.clear();
-  if (count == 0 || impl_->keys.count == 0) return;
-  const PayloadKeys& k = impl_->keys;
+  const Impl& k = *impl_;
+  if (count == 0 || k.count == 0) return;
   auto dist = [&](std::size_t i) {
     float d = 0;
     for (int t = 0; t < k.dims; ++t) {
@@ -121,8 +150,11 @@ void KeyIndex::nearest(const float* key, std::size_t count,
     return;
   }
   EligibleKnn result(count, eligible);
-  if (impl_->tree) impl_->tree->findNeighbors(result, key, nanoflann::SearchParams());
-  for (std::size_t i = k.tree_count; i < k.count; ++i) {
+  if (k.main) k.main->findNeighbors(result, key, nanoflann::SearchParams());
+  result.set_offset(k.second_range.first);
+  if (k.second) k.second->findNeighbors(result, key, nanoflann::SearchParams());
+  result.set_offset(0);
+  for (std::size_t i = k.tail_first(); i < k.count; ++i) {
     result.addPoint(dist(i), static_cast<std::uint32_t>(i));
   }
   out.swap(result.sorted_items());
@@ -130,8 +162,8 @@ void KeyIndex::nearest(const float* key, std::size_t count,
 
 std::size_t KeyIndex::memory_bytes() const {
   // The keys and a point id (uint32) per place, plus about one node per leaf of 16 points.
-  const std::size_t n = impl_->keys.count;
-  return impl_->keys.keys.capacity() * sizeof(float) + n * sizeof(std::uint32_t) + (n / 8 + 1) * 64;
+  const std::size_t n = impl_->count;
+  return impl_->keys.capacity() * sizeof(float) + n * sizeof(std::uint32_t) + (n / 8 + 1) * 64;
 }
 
 }  // namespace loopscan

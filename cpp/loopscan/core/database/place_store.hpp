@@ -41,6 +41,14 @@ class PlaceStore {
   virtual std::unique_ptr<Query> prepare(const Signature& signature) const = 0;
   // out[c] = component c of the distance from the query to the payload.
   virtual void distances(const Query& query, const float* payload, double* out) const = 0;
+  // A cheaper first pass over indexed candidates (`slot`: the place's position in the last
+  // candidates() output for this query): component distances that are never below
+  // distances(). The database refines the best few with distances(). Default: exact.
+  virtual bool partial_first_pass(const Query&) const { return false; }
+  virtual void first_pass(const Query& query, std::size_t /*slot*/, const float* payload,
+                          double* out) const {
+    distances(query, payload, out);
+  }
   // Indexed retrieval: up to `count` eligible places, best candidates first (`pool`: the
   // first stage's size where there are two stages).
   virtual void candidates(const Query& query, std::size_t count, std::size_t pool,
@@ -58,17 +66,20 @@ class PlaceStore {
   virtual std::size_t memory_bytes() const { return arena_.memory_bytes() + index_bytes(); }
 
  protected:
-  PlaceStore(std::size_t payload_floats, std::size_t record_floats)
+  PlaceStore(std::size_t payload_floats, std::size_t record_floats, std::size_t value_floats)
       : payload_floats_(static_cast<int>(payload_floats)),
-        value_floats_(static_cast<int>(record_floats)),
+        value_floats_(static_cast<int>(value_floats)),
         arena_(record_floats) {}
+  PlaceStore(std::size_t payload_floats, std::size_t record_floats)
+      : PlaceStore(payload_floats, record_floats, record_floats) {}
   explicit PlaceStore(std::size_t payload_floats) : PlaceStore(payload_floats, payload_floats) {}
   int payload_floats_;
   int value_floats_;
   PayloadArena arena_;
 };
 
-std::unique_ptr<PlaceStore> make_scan_context_store(const ScanContextConfig& config);
+std::unique_ptr<PlaceStore> make_scan_context_store(const ScanContextConfig& config,
+                                                    PlaceStorage storage);
 std::unique_ptr<PlaceStore> make_m2dp_store(int columns);
 std::unique_ptr<PlaceStore> make_delight_store(int columns);
 

@@ -5,7 +5,8 @@
 //  2. the KD-tree's candidates re-ranked by a richer rotation-invariant key: for both halves
 //     and every ring, the DC term and the magnitudes of the two lowest harmonics (120-D).
 // The 120-D key is stored quantised (uint16) after the spectra, ring key first; the tree keeps
-// its own contiguous copy of the 10-D key.
+// its own contiguous copy of the 10-D key. With PlaceStorage::Compact the spectra are stored
+// as bytes (compact_spectra.hpp) and expanded before scoring.
 // On the simulated city the ring key alone puts the exact best place among 50 candidates for
 // ~40% of same-season queries and ~89% across seasons; the two stages reach ~65% and ~99%
 // (README, "Place database").
@@ -13,6 +14,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "loopscan/core/database/compact_spectra.hpp"
 #include "loopscan/core/database/key_index.hpp"
 #include "loopscan/core/database/place_store.hpp"
 
@@ -34,12 +36,17 @@ class ScanContextStore final : public PlaceStore {
   struct SpectraQuery : Query {
     std::vector<ScanContextSpectra::Query> versions;
     std::vector<Keys> keys;  // per version
+    // Per place of the last candidates() output: the versions whose search proposed it.
+    mutable std::vector<std::uint32_t> proposed_by;
   };
 
  public:
-  explicit ScanContextStore(const ScanContextConfig& config)
-      : PlaceStore(spectra_floats(config) + key_floats(config), spectra_floats(config)),
+  ScanContextStore(const ScanContextConfig& config, PlaceStorage storage)
+      : PlaceStore(record_floats(config, storage) + key_floats(config),
+                   record_floats(config, storage), value_floats(config, storage)),
         spectra_(config),
+        compact_(storage == PlaceStorage::Compact),
+        shape_{2 * config.rings, config.sectors},
         key_dims_(key_dims(config)),
         keys_(key_floats(config)),
         index_((config.rings + kRingsPerKey - 1) / kRingsPerKey) {}
@@ -47,21 +54,29 @@ class ScanContextStore final : public PlaceStore {
   int components() const override { return 2; }
 
   void encode(const Signature& signature, float* payload) const override {
-    spectra_.pack(signature.topRows(1), payload);
-    const std::vector<std::uint16_t> key = spectral_key(payload);
-    std::memset(payload + spectra_.floats_per_place(), 0, ((key.size() + 1) / 2) * sizeof(float));
-    std::memcpy(payload + spectra_.floats_per_place(), key.data(), key.size() * 2);
+    AlignedFloats packed(spectra_.floats_per_place());
+    spectra_.pack(signature.topRows(1), packed.data());
+    const std::vector<std::uint16_t> key = spectral_key(packed.data());
+    const std::size_t record =
+        static_cast<std::size_t>(payload_floats_) - keys_.floats_per_record();
+    if (compact_) {
+      compress_spectra(shape_, packed.data(), payload);
+    } else {
+      std::copy(packed.data(), packed.data() + record, payload);
+    }
+    std::memset(payload + record, 0, keys_.floats_per_record() * sizeof(float));
+    std::memcpy(payload + record, key.data(), key.size() * 2);
   }
   // The spectra are the scoring record; the spectral keys live in their own arena, so the
   // re-ranking of hundreds of candidates reads 240 contiguous bytes each, not a 9.6 KB record.
   void append(const float* payload) override {
     arena_.append(payload);
-    keys_.append(payload + spectra_.floats_per_place());
+    keys_.append(payload + arena_.floats_per_record());
   }
   void stored(std::size_t i, float* out) const override {
-    std::copy(arena_.at(i), arena_.at(i) + spectra_.floats_per_place(), out);
+    std::copy(arena_.at(i), arena_.at(i) + arena_.floats_per_record(), out);
     std::copy(keys_.at(i), keys_.at(i) + keys_.floats_per_record(),
-              out + spectra_.floats_per_place());
+              out + arena_.floats_per_record());
   }
   std::size_t memory_bytes() const override {
     return arena_.memory_bytes() + keys_.memory_bytes() + index_bytes();
@@ -87,10 +102,15 @@ class ScanContextStore final : public PlaceStore {
   }
 
   void distances(const Query& query, const float* payload, double* out) const override {
-    float best[2];
-    spectra_.best_dots(static_cast<const SpectraQuery&>(query).versions, payload, best);
-    out[0] = (1.0 - double(best[0])) / 2.0;
-    out[1] = (1.0 - double(best[1])) / 2.0;
+    score(static_cast<const SpectraQuery&>(query), ~0u, payload, out);
+  }
+  bool partial_first_pass(const Query& query) const override {
+    return static_cast<const SpectraQuery&>(query).versions.size() > 1;
+  }
+  void first_pass(const Query& query, std::size_t slot, const float* payload,
+                  double* out) const override {
+    const auto& q = static_cast<const SpectraQuery&>(query);
+    score(q, slot < q.proposed_by.size() ? q.proposed_by[slot] : ~0u, payload, out);
   }
 
   void candidates(const Query& query, std::size_t count, std::size_t pool, const Eligible& eligible,
@@ -99,9 +119,12 @@ class ScanContextStore final : public PlaceStore {
     // version's best `count` (a lateral version's own best places must not be crowded out by
     // the centred one's near misses, nor the other way round).
     out.clear();
+    const auto& sq = static_cast<const SpectraQuery&>(query);
+    std::vector<std::pair<std::size_t, std::uint32_t>> proposals;  // place, version bit
     std::vector<std::pair<float, std::size_t>> near;
     std::vector<std::pair<std::int64_t, std::size_t>> ranked;
-    for (const Keys& q : static_cast<const SpectraQuery&>(query).keys) {
+    for (std::size_t v = 0; v < sq.keys.size(); ++v) {
+      const Keys& q = sq.keys[v];
       index_.nearest(q.ring_key.data(), std::max(count, pool), eligible, near);
       ranked.clear();
       const std::size_t dims = q.key.size();
@@ -117,20 +140,38 @@ class ScanContextStore final : public PlaceStore {
       }
       const std::size_t n = std::min(count, ranked.size());
       std::partial_sort(ranked.begin(), ranked.begin() + n, ranked.end());
-      for (std::size_t j = 0; j < n; ++j) out.push_back(ranked[j].second);
+      for (std::size_t j = 0; j < n; ++j) {
+        proposals.emplace_back(ranked[j].second, v < 32 ? 1u << v : ~0u);
+      }
     }
-    if (static_cast<const SpectraQuery&>(query).versions.size() > 1) {
-      std::sort(out.begin(), out.end());
-      out.erase(std::unique(out.begin(), out.end()), out.end());
+    std::sort(proposals.begin(), proposals.end());
+    sq.proposed_by.clear();
+    for (const auto& [i, bit] : proposals) {
+      if (out.empty() || out.back() != i) {
+        out.push_back(i);
+        sq.proposed_by.push_back(0);
+      }
+      sq.proposed_by.back() |= bit;
     }
   }
 
   std::optional<SectorAlignment> align(const Query& query, const float* payload) const override {
-    // The version that matches the structure half best.
+    // The version that matches the structure half best, aligned in double. The float kernel
+    // screens the versions first: only those within kScreen of the best can win in double.
+    constexpr float kScreen = 1e-3f;
     const auto& versions = static_cast<const SpectraQuery&>(query).versions;
+    const float* spectra = expanded(payload);
+    std::vector<float> dots(versions.size());
+    float top = -2.f, d[2];
+    for (std::size_t v = 0; v < versions.size(); ++v) {
+      spectra_.best_dots(versions[v], spectra, d);
+      dots[v] = d[0];
+      top = std::max(top, d[0]);
+    }
     std::optional<SectorAlignment> best;
-    for (const ScanContextSpectra::Query& v : versions) {
-      const SectorAlignment a = spectra_.align(v, payload, 0);
+    for (std::size_t v = 0; v < versions.size(); ++v) {
+      if (dots[v] < top - kScreen) continue;
+      const SectorAlignment a = spectra_.align(versions[v], spectra, 0);
       if (!best || a.dot > best->dot) best = a;
     }
     return best;
@@ -141,6 +182,37 @@ class ScanContextStore final : public PlaceStore {
  private:
   static std::size_t spectra_floats(const ScanContextConfig& c) {
     return 2 * static_cast<std::size_t>(c.rings) * c.sectors;
+  }
+  static std::size_t record_floats(const ScanContextConfig& c, PlaceStorage storage) {
+    return storage == PlaceStorage::Compact ? CompactSpectraShape{2 * c.rings, c.sectors}.floats()
+                                            : spectra_floats(c);
+  }
+  // The leading floats of a record that are values (the rest of a compact one: bytes).
+  static std::size_t value_floats(const ScanContextConfig& c, PlaceStorage storage) {
+    return storage == PlaceStorage::Compact ? 2 * static_cast<std::size_t>(c.rings)
+                                            : spectra_floats(c);
+  }
+  // The float spectra of a record: itself, or a compact one expanded into a per-thread buffer.
+  const float* expanded(const float* record) const {
+    if (!compact_) return record;
+    thread_local AlignedFloats buffer;
+    if (buffer.size() < shape_.packed_floats()) buffer = AlignedFloats(shape_.packed_floats());
+    expand_spectra(shape_, record, buffer.data());
+    return buffer.data();
+  }
+  // Best dots over the query versions in `versions` (a bit per version; bits past 31 mean all).
+  void score(const SpectraQuery& q, std::uint32_t versions, const float* record,
+             double* out) const {
+    const float* spectra = expanded(record);
+    float best[2] = {-2.f, -2.f}, dots[2];
+    for (std::size_t v = 0; v < q.versions.size(); ++v) {
+      if (v < 32 && !(versions >> v & 1u)) continue;
+      spectra_.best_dots(q.versions[v], spectra, dots);
+      best[0] = std::max(best[0], dots[0]);
+      best[1] = std::max(best[1], dots[1]);
+    }
+    out[0] = (1.0 - double(best[0])) / 2.0;
+    out[1] = (1.0 - double(best[1])) / 2.0;
   }
   // The tree's key: the ring key (the first R values of the spectral key) summed over pairs
   // of rings, which keeps the tree fast (10-D) and loses nothing measurable after stage 2.
@@ -176,6 +248,8 @@ class ScanContextStore final : public PlaceStore {
   }
 
   ScanContextSpectra spectra_;
+  bool compact_;
+  CompactSpectraShape shape_;
   std::size_t key_dims_;
   PayloadArena keys_;  // quantised spectral keys, ring key first (uint16 pairs in floats)
   KeyIndex index_;
@@ -183,8 +257,9 @@ class ScanContextStore final : public PlaceStore {
 
 }  // namespace
 
-std::unique_ptr<PlaceStore> make_scan_context_store(const ScanContextConfig& config) {
-  return std::make_unique<ScanContextStore>(config);
+std::unique_ptr<PlaceStore> make_scan_context_store(const ScanContextConfig& config,
+                                                    PlaceStorage storage) {
+  return std::make_unique<ScanContextStore>(config, storage);
 }
 
 }  // namespace loopscan
