@@ -26,7 +26,7 @@ namespace loopscan::cli {
 namespace {
 
 struct BuildArgs {
-  std::string method = "sc", fusion = "fused", gt_format = "kitti", out;
+  std::string method = "sc", fusion = "fused", gt_format = "kitti", storage = "full", out;
   std::vector<std::string> signatures, gt;
   int first_session = 0;
 };
@@ -63,6 +63,7 @@ void run_build(const BuildArgs& a) {
   DatabaseConfig config;
   config.method = parse_method(a.method);
   config.fusion = parse_fusion(a.fusion);
+  config.storage = a.storage == "compact" ? PlaceStorage::Compact : PlaceStorage::Full;
   Database db(config);
   for (std::size_t s = 0; s < a.signatures.size(); ++s) {
     io::SignatureSet set = io::load_signature_set(a.signatures[s], config.method);
@@ -177,6 +178,7 @@ void run_query(const QueryArgs& a) {
   nlohmann::json metrics = {
       {"method", method_name(db.config().method)},
       {"fusion", fusion_name(db.config().fusion)},
+      {"storage", db.config().storage == PlaceStorage::Compact ? "compact" : "full"},
       {"retrieval", a.exact ? "exact" : "indexed"},
       {"candidates", a.candidates},
       {"protocol", {{"threshold_m", protocol.threshold_m}, {"mask_width", protocol.mask_width}}},
@@ -208,6 +210,11 @@ void add_db_command(CLI::App& app) {
   build->add_option("--gt", b->gt, "ground truth per --signatures (stored as place positions)");
   build->add_option("--gt-format", b->gt_format, "kitti | robotcar")->capture_default_str();
   build->add_option("--fusion", b->fusion, "fused | structure | intensity")->capture_default_str();
+  build
+      ->add_option("--storage", b->storage,
+                   "full | compact (Scan Context: a byte per spectrum value, ~3.4x smaller)")
+      ->check(CLI::IsMember({"full", "compact"}))
+      ->capture_default_str();
   build->add_option("--first-session", b->first_session, "session id of the first --signatures")
       ->check(finite_in(0, 1e6))
       ->capture_default_str();

@@ -262,4 +262,30 @@ TEST(Cli, EveryOptionHasHelpText) {
   EXPECT_GE(options, 100u);
 }
 
+TEST(Cli, SimulateRejectsUnknownTrajectoryAndSeason) {
+  const fs::path d = temp_dir("simulate_bad");
+  CliResult r = run("simulate --trajectory builtin:moon --out " + d.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("moon"), std::string::npos) << r.output;
+  r = run("simulate --trajectory builtin:short --season monsoon --out " + d.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("monsoon"), std::string::npos) << r.output;
+}
+
+TEST(Cli, SimulateIsByteIdenticalForTheSameSeed) {
+  const fs::path d = temp_dir("simulate_twice");
+  for (const char* name : {"a", "b", "c"}) {
+    const std::string seed = std::string(name) == "c" ? "5" : "4";
+    ASSERT_EQ(run("simulate --trajectory builtin:short --season fall --seed " + seed + " --out " +
+                  (d / name).string())
+                  .code,
+              0);
+  }
+  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "gt.txt", "world.json"}) {
+    EXPECT_EQ(file_bytes(d / "a" / f), file_bytes(d / "b" / f)) << f;
+  }
+  EXPECT_NE(file_bytes(d / "a" / "pts_history_file.txt"),
+            file_bytes(d / "c" / "pts_history_file.txt"));
+}
+
 }  // namespace loopscan

@@ -84,32 +84,6 @@ TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
   }
 }
 
-TEST(Cli, SimulateRejectsUnknownTrajectoryAndSeason) {
-  const fs::path d = temp_dir("simulate_bad");
-  CliResult r = run("simulate --trajectory builtin:moon --out " + d.string());
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.output.find("moon"), std::string::npos) << r.output;
-  r = run("simulate --trajectory builtin:short --season monsoon --out " + d.string());
-  EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.output.find("monsoon"), std::string::npos) << r.output;
-}
-
-TEST(Cli, SimulateIsByteIdenticalForTheSameSeed) {
-  const fs::path d = temp_dir("simulate_twice");
-  for (const char* name : {"a", "b", "c"}) {
-    const std::string seed = std::string(name) == "c" ? "5" : "4";
-    ASSERT_EQ(run("simulate --trajectory builtin:short --season fall --seed " + seed + " --out " +
-                  (d / name).string())
-                  .code,
-              0);
-  }
-  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "gt.txt", "world.json"}) {
-    EXPECT_EQ(file_bytes(d / "a" / f), file_bytes(d / "b" / f)) << f;
-  }
-  EXPECT_NE(file_bytes(d / "a" / "pts_history_file.txt"),
-            file_bytes(d / "c" / "pts_history_file.txt"));
-}
-
 TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
   const fs::path d = temp_dir("db");
   for (const char* season : {"summer", "fall"}) {
@@ -162,6 +136,20 @@ TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
   while (std::getline(csv, line)) ++rows;
   EXPECT_EQ(rows, 3 * online["n_queries"].get<int>());
   EXPECT_FALSE(has_temp_files(d));
+
+  // Compact storage: a file ~3.4x smaller, the same answers up to the rounding.
+  const std::string compact = (d / "compact.db").string();
+  r = run("db build --storage compact --signatures " + summer + "/sc --gt " + summer +
+          "/gt.txt --out " + compact);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_GT(fs::file_size(db), 3 * fs::file_size(compact));
+  r = run("db query --db " + compact + " --signatures " + fall + "/sc --gt " + fall +
+          "/gt.txt --exact --k 3 --out " + (d / "qc").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  nlohmann::json small;
+  std::ifstream(d / "qc/metrics.json") >> small;
+  EXPECT_EQ(small["storage"], "compact");
+  EXPECT_NEAR(small["auc"].get<double>(), online["auc"].get<double>(), 0.01);
 
   // Bad input: a damaged database, a --gt count that does not match.
   std::string bytes;

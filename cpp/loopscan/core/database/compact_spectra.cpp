@@ -5,6 +5,12 @@
 #include <cstdint>
 #include <cstring>
 
+#include "loopscan/core/simd.hpp"
+
+#if LOOPSCAN_HAVE_AVX2_CLONES
+#include <immintrin.h>
+#endif
+
 namespace loopscan {
 
 void compress_spectra(const CompactSpectraShape& shape, const float* packed, float* out) {
@@ -26,15 +32,48 @@ void compress_spectra(const CompactSpectraShape& shape, const float* packed, flo
   }
 }
 
-void expand_spectra(const CompactSpectraShape& shape, const float* compact, float* out) {
+namespace {
+
+// The same loop compiled for AVX2 (8 bytes widened per instruction) and for the baseline.
+LOOPSCAN_INLINE void expand_rows(const CompactSpectraShape& shape, const float* compact, float* out) {
   const int S = shape.sectors;
   const auto* bytes = reinterpret_cast<const std::int8_t*>(compact + shape.rows);
   for (int r = 0; r < shape.rows; ++r) {
     const float scale = compact[r];
-    const std::int8_t* q = bytes + static_cast<std::size_t>(r) * S;
-    float* x = out + static_cast<std::size_t>(r) * S;
+    const std::int8_t* __restrict q = bytes + static_cast<std::size_t>(r) * S;
+    float* __restrict x = out + static_cast<std::size_t>(r) * S;
     for (int k = 0; k < S; ++k) x[k] = scale * static_cast<float>(q[k]);
   }
+}
+
+void expand_base(const CompactSpectraShape& shape, const float* compact, float* out) {
+  expand_rows(shape, compact, out);
+}
+LOOPSCAN_AVX2 void expand_avx2(const CompactSpectraShape& shape, const float* compact, float* out) {
+#if LOOPSCAN_HAVE_AVX2_CLONES
+  const int S = shape.sectors;
+  const auto* bytes = reinterpret_cast<const std::int8_t*>(compact + shape.rows);
+  for (int r = 0; r < shape.rows; ++r) {
+    const __m256 scale = _mm256_set1_ps(compact[r]);
+    const std::int8_t* q = bytes + static_cast<std::size_t>(r) * S;
+    float* x = out + static_cast<std::size_t>(r) * S;
+    int k = 0;
+    for (; k + 8 <= S; k += 8) {
+      const __m128i eight = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(q + k));
+      _mm256_storeu_ps(x + k, _mm256_mul_ps(scale, _mm256_cvtepi32_ps(_mm256_cvtepi8_epi32(eight))));
+    }
+    for (; k < S; ++k) x[k] = compact[r] * static_cast<float>(q[k]);
+  }
+#else
+  expand_rows(shape, compact, out);
+#endif
+}
+
+}  // namespace
+
+void expand_spectra(const CompactSpectraShape& shape, const float* compact, float* out) {
+  static const auto kernel = simd::has_avx2() ? expand_avx2 : expand_base;
+  kernel(shape, compact, out);
 }
 
 }  // namespace loopscan

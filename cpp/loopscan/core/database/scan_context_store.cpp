@@ -17,6 +17,7 @@
 #include "loopscan/core/database/compact_spectra.hpp"
 #include "loopscan/core/database/key_index.hpp"
 #include "loopscan/core/database/place_store.hpp"
+#include "loopscan/core/simd.hpp"
 
 namespace loopscan {
 namespace {
@@ -24,6 +25,25 @@ namespace {
 constexpr int kKeyFrequencies = 2;
 constexpr float kKeyScale = 8192.f;  // quantisation of the spectral key (see spectral_key)
 constexpr int kRingsPerKey = 2;      // rings summed into one dimension of the tree's key
+
+// Squared distance of two uint16 keys, exact (|d|^2 < 2^32 fits a uint32; the sum a uint64),
+// compiled for AVX2 and for the baseline.
+LOOPSCAN_INLINE std::uint64_t key_distance_impl(const std::uint16_t* __restrict a,
+                                                const std::uint16_t* __restrict b, std::size_t n) {
+  std::uint64_t e = 0;
+  for (std::size_t t = 0; t < n; ++t) {
+    const std::uint32_t d = a[t] > b[t] ? a[t] - b[t] : b[t] - a[t];
+    e += static_cast<std::uint64_t>(d * d);
+  }
+  return e;
+}
+std::uint64_t key_distance_base(const std::uint16_t* a, const std::uint16_t* b, std::size_t n) {
+  return key_distance_impl(a, b, n);
+}
+LOOPSCAN_AVX2 std::uint64_t key_distance_avx2(const std::uint16_t* a, const std::uint16_t* b,
+                                              std::size_t n) {
+  return key_distance_impl(a, b, n);
+}
 
 class ScanContextStore final : public PlaceStore {
   // Index keys of one query version.
@@ -127,16 +147,12 @@ class ScanContextStore final : public PlaceStore {
       const Keys& q = sq.keys[v];
       index_.nearest(q.ring_key.data(), std::max(count, pool), eligible, near);
       ranked.clear();
+      static const auto key_distance = simd::has_avx2() ? key_distance_avx2 : key_distance_base;
       const std::size_t dims = q.key.size();
       std::vector<std::uint16_t> key(dims);
       for (const auto& [d, i] : near) {
         std::memcpy(key.data(), keys_.at(i), dims * 2);
-        std::int64_t e = 0;
-        for (std::size_t t = 0; t < dims; ++t) {
-          const std::int64_t diff = std::int64_t(q.key[t]) - key[t];
-          e += diff * diff;
-        }
-        ranked.emplace_back(e, i);
+        ranked.emplace_back(static_cast<std::int64_t>(key_distance(q.key.data(), key.data(), dims)), i);
       }
       const std::size_t n = std::min(count, ranked.size());
       std::partial_sort(ranked.begin(), ranked.begin() + n, ranked.end());

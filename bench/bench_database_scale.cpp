@@ -1,0 +1,211 @@
+// The Scan Context place database from 10^3 to 10^6 places (one thread), against Scan
+// Context's own ring-key tree search (scan_context_tree.hpp) on the same places.
+//   build/bench/loopscan_bench_db_scale [--sizes 1000,10000,100000,1000000]
+//       [--maps perturbed,sessions] [--storage compact|full] [--queries 100]
+//       [--oracle-max 1000000] [--baseline-oracle-max 100000]
+//       [--candidates N] [--pool F] [--stats N] [--refine N]   (QueryOptions of the queries)
+// Maps: `perturbed` = the simulated city in summer (world 7, session 100, 977 places) plus
+// perturbed copies of it (each cell x (1 + 0.1 N(0,1)), 10% of cells emptied, a random sector
+// roll); `sessions` = 8 simulated sessions of the same world (4 summer, 4 winter) plus
+// perturbed copies of them. Queries: another summer drive (session 102), the ones with a true
+// place (a map place within 10 m). Per size: build seconds (cumulative), bytes per place
+// (Database::memory_bytes), ms per indexed query (k = 5), top-1 agreement with exact search
+// over the same places, true-place rate of top-1 (within 10 m); for Scan Context's search:
+// ms per query, true-place rate, agreement with its own brute force.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include "loopscan/core/database/database.hpp"
+#include "loopscan/sim/simulated_places.hpp"
+#include "scan_context_tree.hpp"
+
+namespace loopscan {
+namespace {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::vector<long> numbers(const std::string& s) {
+  std::vector<long> out;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');) out.push_back(std::stol(item));
+  return out;
+}
+
+Signature perturbed(const Signature& s, std::mt19937& rng) {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Signature out = s.topRows(1);
+  for (Eigen::Index i = 0; i < out.size(); ++i) {
+    if (out(i) == 0) continue;
+    out(i) = u(rng) < 0.1 ? 0.0 : out(i) * (1.0 + 0.1 * n01(rng));
+    if (i >= out.size() / 2) out(i) = out(i) != 0 ? 1.0 : 0.0;
+  }
+  const int R = 20, S = 60, shift = static_cast<int>(u(rng) * S);
+  Signature rolled = out;
+  for (int h = 0; h < 2; ++h) {
+    for (int sct = 0; sct < S; ++sct) {
+      for (int r = 0; r < R; ++r) {
+        rolled(0, h * R * S + ((sct + shift) % S) * R + r) = out(0, h * R * S + sct * R + r);
+      }
+    }
+  }
+  return rolled;
+}
+
+struct Base {
+  std::vector<PlaceDescriptor> places;
+  std::vector<Eigen::Vector3d> positions;
+  void append(const sim::SimulatedPlaces& p) {
+    places.insert(places.end(), p.places.begin(), p.places.end());
+    const auto pos = p.positions();
+    positions.insert(positions.end(), pos.begin(), pos.end());
+  }
+};
+
+struct Options {
+  std::vector<long> sizes{1000, 10000, 100000, 1000000};
+  std::vector<std::string> maps{"perturbed", "sessions"};
+  PlaceStorage storage = PlaceStorage::Compact;
+  int queries = 100;
+  long oracle_max = 1000000, baseline_oracle_max = 100000;
+  QueryOptions indexed;  // --candidates, --pool, --stats, --refine override its defaults
+};
+
+void run_map(const std::string& kind, const Options& opt, const sim::Trajectory& route,
+             const sim::SimulatedPlaces& query_session) {
+  Base base;
+  if (kind == "perturbed") {
+    base.append(sim::simulate_places(route, sim::Season::Summer, 7, 100, Method::ScanContext, 2));
+  } else {
+    for (unsigned s = 0; s < 8; ++s) {
+      const auto season = s % 2 ? sim::Season::Winter : sim::Season::Summer;
+      base.append(sim::simulate_places(route, season, 7, 110 + s, Method::ScanContext, 2));
+    }
+  }
+  // Queries with a true place in the base map.
+  std::vector<std::size_t> queries;
+  const auto qpos = query_session.positions();
+  for (std::size_t i = 0; i < qpos.size(); ++i) {
+    for (const auto& p : base.positions) {
+      if ((p - qpos[i]).norm() <= 10.0) {
+        queries.push_back(i);
+        break;
+      }
+    }
+  }
+  const std::size_t step = std::max<std::size_t>(1, queries.size() / opt.queries);
+  std::vector<std::size_t> chosen;
+  for (std::size_t i = 0; i < queries.size() && chosen.size() < std::size_t(opt.queries); i += step)
+    chosen.push_back(queries[i]);
+
+  DatabaseConfig cfg;
+  cfg.storage = opt.storage;
+  Database db(cfg);
+  bench::ScanContextTree sc(20, 60);
+  std::vector<std::size_t> origin;  // base place of every map place
+  std::mt19937 rng(42);
+  double build_s = 0, sc_build_s = 0;
+  std::printf("| map | places | build s | bytes/place | ms/query | top-1 = exact | true place | SC tree ms/query | SC true place | SC tree = SC brute force | SC bytes/place |\n");
+  std::printf("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+  for (long n : opt.sizes) {
+    std::vector<Signature> added;
+    while (static_cast<long>(db.size()) < n) {
+      const std::size_t i = db.size(), j = i % base.places.size();
+      PlaceDescriptor d = base.places[j];
+      d.signature = i < base.places.size() ? Signature(d.signature.topRows(1)) : perturbed(d.signature, rng);
+      double t0 = now_s();
+      db.add({0, static_cast<int>(i)}, d);
+      build_s += now_s() - t0;
+      t0 = now_s();
+      sc.add(d.signature);
+      sc_build_s += now_s() - t0;
+      origin.push_back(j);
+    }
+    double t0 = now_s();
+    sc.build();
+    sc_build_s += now_s() - t0;
+    const auto& qp = query_session.places;
+    const QueryOptions& indexed = opt.indexed;
+    QueryOptions exact;
+    exact.retrieval = Retrieval::Exact;
+    t0 = now_s();
+    int nq = 0;
+    for (int rep = 0; rep < 3; ++rep)
+      for (std::size_t q : chosen) db.query(qp[q], 5, indexed), ++nq;
+    const double ms = 1e3 * (now_s() - t0) / nq;
+    t0 = now_s();
+    for (int rep = 0; rep < 3; ++rep)
+      for (std::size_t q : chosen) sc.query(qp[q].signature);
+    const double sc_ms = 1e3 * (now_s() - t0) / nq;
+    int agree = 0, oracle_n = 0, truth = 0, sc_truth = 0, sc_agree = 0, sc_oracle_n = 0;
+    auto true_place = [&](std::size_t q, std::size_t i) {
+      return (base.positions[origin[i]] - qpos[q]).norm() <= 10.0;
+    };
+    for (std::size_t q : chosen) {
+      const auto b = db.query(qp[q], 1, indexed);
+      truth += !b.empty() && true_place(q, b[0].index);
+      const auto s = sc.query(qp[q].signature);
+      sc_truth += true_place(q, s.first);
+      if (n <= opt.oracle_max) {
+        const auto a = db.query(qp[q], 1, exact);
+        agree += !a.empty() && !b.empty() && a[0].index == b[0].index;
+        ++oracle_n;
+      }
+      if (n <= opt.baseline_oracle_max) {
+        sc_agree += sc.brute_force(qp[q].signature).first == s.first;
+        ++sc_oracle_n;
+      }
+    }
+    auto share = [](int k, int total) {
+      char b[32];
+      if (total == 0) return std::string("n/a");
+      std::snprintf(b, sizeof b, "%.3f", double(k) / total);
+      return std::string(b);
+    };
+    std::printf("| %s | %ld | %.1f | %.0f | %.3f | %s | %s | %.3f | %s | %s | %.0f |\n", kind.c_str(), n,
+                build_s, double(db.memory_bytes()) / n, ms, share(agree, oracle_n).c_str(),
+                share(truth, int(chosen.size())).c_str(), sc_ms,
+                share(sc_truth, int(chosen.size())).c_str(), share(sc_agree, sc_oracle_n).c_str(),
+                double(sc.memory_bytes()) / n);
+    std::fflush(stdout);
+  }
+  std::printf("(%zu queries with a true place; SC tree build %.1f s)\n\n", chosen.size(), sc_build_s);
+}
+
+}  // namespace
+}  // namespace loopscan
+
+int main(int argc, char** argv) {
+  using namespace loopscan;
+  Options opt;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i], v = argv[i + 1];
+    if (a == "--sizes") opt.sizes = numbers(v);
+    else if (a == "--maps") {
+      opt.maps.clear();
+      std::stringstream in(v);
+      for (std::string m; std::getline(in, m, ',');) opt.maps.push_back(m);
+    } else if (a == "--storage") opt.storage = v == "full" ? PlaceStorage::Full : PlaceStorage::Compact;
+    else if (a == "--queries") opt.queries = std::stoi(v);
+    else if (a == "--candidates") opt.indexed.candidates = std::stoi(v);
+    else if (a == "--pool") opt.indexed.index_pool_factor = std::stoi(v);
+    else if (a == "--stats") opt.indexed.stats_sample = std::stoi(v);
+    else if (a == "--refine") opt.indexed.refine = std::stoi(v);
+    else if (a == "--oracle-max") opt.oracle_max = std::stol(v);
+    else if (a == "--baseline-oracle-max") opt.baseline_oracle_max = std::stol(v);
+    else {
+      std::fprintf(stderr, "unknown option %s\n", a.c_str());
+      return 2;
+    }
+  }
+  const sim::Trajectory route = sim::make_builtin_trajectory("city");
+  const auto queries = sim::simulate_places(route, sim::Season::Summer, 7, 102, Method::ScanContext, 2);
+  std::printf("storage: %s\n\n", opt.storage == PlaceStorage::Compact ? "compact" : "full");
+  for (const std::string& m : opt.maps) loopscan::run_map(m, opt, route, queries);
+}
