@@ -73,12 +73,13 @@ class Candidate:
 
 class Database:
     def __init__(self, method: str = "sc", fusion: str = "fused",
-                 structure_weight: float = 2.0) -> None: ...
+                 structure_weight: float = 2.0, storage: str = "full") -> None: ...
     def add(self, signature: npt.ArrayLike, keyframe: int, session: int = 0,
             frame: Optional[npt.ArrayLike] = None, pose: Optional[npt.ArrayLike] = None) -> None: ...
     def query(self, signature: npt.ArrayLike, k: int = 1, frame: Optional[npt.ArrayLike] = None,
               retrieval: str = "indexed", candidates: int = 50, index_pool_factor: int = 8,
-              stats_sample: int = 64, exclude_recent: int = 0, sessions: Sequence[int] = (),
+              stats_sample: int = 64, refine: int = 16, exclude_recent: int = 0,
+              sessions: Sequence[int] = (),
               max_distance: float = float("inf"), uniqueness_ratio: float = 1.0,
               distinct_gap: int = 50, threads: int = 1,
               accept: Optional[Callable[[int, int, int], bool]] = None) -> list[Candidate]: ...

@@ -33,8 +33,8 @@ std::string candidate_repr(const Candidate& c) {
 
 std::vector<Candidate> query(const Database& db, const DoubleArray& signature, int k,
                              const py::object& frame, const std::string& retrieval, int candidates,
-                             int index_pool_factor, int stats_sample, int exclude_recent,
-                             std::vector<int> sessions, double max_distance,
+                             int index_pool_factor, int stats_sample, int refine,
+                             int exclude_recent, std::vector<int> sessions, double max_distance,
                              double uniqueness_ratio, int distinct_gap, int threads,
                              const py::object& accept) {
   QueryOptions o;
@@ -45,6 +45,7 @@ std::vector<Candidate> query(const Database& db, const DoubleArray& signature, i
   o.candidates = candidates;
   o.index_pool_factor = index_pool_factor;
   o.stats_sample = stats_sample;
+  o.refine = refine;
   o.exclude_recent = exclude_recent;
   o.sessions = std::move(sessions);
   o.max_distance = max_distance;
@@ -81,15 +82,21 @@ void bind_database(py::module_& m) {
 
   py::class_<Database>(m, "Database", "Places to query online (exact or indexed search).")
       .def(py::init(
-               [](const std::string& method, const std::string& fusion, double structure_weight) {
+               [](const std::string& method, const std::string& fusion, double structure_weight,
+                  const std::string& storage) {
                  DatabaseConfig c;
                  c.method = parse_method(method);
                  c.fusion = parse_fusion(fusion);
                  c.structure_weight = structure_weight;
+                 if (storage != "full" && storage != "compact")
+                   throw py::value_error("storage: expected 'full' or 'compact', got '" + storage +
+                                         "'");
+                 c.storage = storage == "compact" ? PlaceStorage::Compact : PlaceStorage::Full;
                  return Database(c);
                }),
            py::arg("method") = "sc", py::arg("fusion") = fusion_name(DatabaseConfig{}.fusion),
-           py::arg("structure_weight") = DatabaseConfig{}.structure_weight)
+           py::arg("structure_weight") = DatabaseConfig{}.structure_weight,
+           py::arg("storage") = "full")
       .def(
           "add",
           [](Database& db, const DoubleArray& signature, int keyframe, int session,
@@ -107,7 +114,7 @@ void bind_database(py::module_& m) {
       .def("query", &query, py::arg("signature"), py::arg("k") = 1, py::arg("frame") = py::none(),
            py::arg("retrieval") = "indexed", py::arg("candidates") = kQuery.candidates,
            py::arg("index_pool_factor") = kQuery.index_pool_factor,
-           py::arg("stats_sample") = kQuery.stats_sample,
+           py::arg("stats_sample") = kQuery.stats_sample, py::arg("refine") = kQuery.refine,
            py::arg("exclude_recent") = kQuery.exclude_recent, py::arg("sessions") = kQuery.sessions,
            py::arg("max_distance") = kQuery.max_distance,
            py::arg("uniqueness_ratio") = kQuery.uniqueness_ratio,

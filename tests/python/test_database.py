@@ -86,6 +86,18 @@ def test_database_round_trip_and_query_options(tmp_path):
         db.query(np.zeros(5))
     with pytest.raises(RuntimeError, match="nothing.db"):
         loopscan.Database.load(str(tmp_path / "nothing.db"))
+    # Compact storage: a third of the memory, the same best place, saved as compact;
+    # refine=0 scores every candidate with every version.
+    small = loopscan.Database(method="sc", storage="compact")
+    for kf, s in zip(sigs.keyframe_ids, sigs.signatures):
+        small.add(s, keyframe=int(kf), session=1)
+    assert 3 * small.memory_bytes < db.memory_bytes
+    assert small.query(q, k=1, retrieval="exact")[0].keyframe % 80 == a[0].keyframe % 80
+    assert small.query(q, k=1, refine=0)[0].keyframe % 80 == a[0].keyframe % 80
+    small.save(str(tmp_path / "small.db"))
+    assert (tmp_path / "small.db").stat().st_size * 3 < (tmp_path / "map.db").stat().st_size
+    with pytest.raises(ValueError, match="storage: expected 'full' or 'compact'"):
+        loopscan.Database(storage="tiny")
 
 
 def test_ten_thousand_queries_leak_no_references():
