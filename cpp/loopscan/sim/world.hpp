@@ -61,6 +61,7 @@ class World {
   nlohmann::json parameters() const;
 
  private:
+  friend struct WorldAccess;  // the renderer's visibility pass
   struct CarCache;
   std::shared_ptr<const StaticWorld> world_;
   std::shared_ptr<CarCache> cars_;  // per-session parked cars, drawn on first use
