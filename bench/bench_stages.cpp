@@ -123,6 +123,9 @@ void BM_Describe(benchmark::State& state) {
       benchmark::DoNotOptimize(describe(method, scans[i], cfg).data());
   }
   per_item(state, n);
+  std::size_t points = 0;
+  for (std::size_t i = 0; i < n; ++i) points += scans[i].size();
+  state.counters["points"] = static_cast<double>(points) / static_cast<double>(n);  // a scan
 }
 
 // Times one difference-matrix row per iteration: `n` places (sigs cycled), queries cycling

@@ -90,13 +90,22 @@ Eigen::Matrix3d camera_axes() {
 
 Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Eigen::Matrix3d* to_aligned,
                  double lateral_offset_m) {
+  Cloud out;
+  align_scan(cloud, frame, mode, out, to_aligned, lateral_offset_m);
+  return out;
+}
+
+void align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Cloud& out,
+                Eigen::Matrix3d* to_aligned, double lateral_offset_m) {
   if (mode == Mode::Reference || frame == DescriptorFrame::Pca) {
-    return pca_align(cloud, mode, to_aligned);
+    out = pca_align(cloud, mode, to_aligned);
+    return;
   }
   Eigen::Matrix3d axes = camera_axes();
+  out.resize(cloud.size());
   if (cloud.empty()) {
     if (to_aligned) *to_aligned = axes;
-    return {};
+    return;
   }
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const PointI& q : cloud) centroid += q.p;
@@ -135,11 +144,9 @@ Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Eigen::Ma
     if (axes.determinant() < 0) axes.row(1) = -axes.row(1);
   }
   if (to_aligned) *to_aligned = axes;
-  Cloud out(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     out[i] = {axes * (cloud[i].p - centre), cloud[i].intensity};
   }
-  return out;
 }
 
 }  // namespace loopscan

@@ -6,6 +6,7 @@
 #include "loopscan/core/descriptors/fast_angle.hpp"
 #include "loopscan/core/descriptors/gray_mean.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
+#include "loopscan/core/descriptors/scan_context_bins.hpp"
 
 namespace loopscan {
 
@@ -68,15 +69,24 @@ Signature scan_context_signature(const Cloud& scan, const ScanContextConfig& con
   validate(config);
   // Aligned once; a lateral version bins the same points around a centre moved to its side.
   Eigen::Matrix3d axes;
-  const Cloud aligned = align_scan(scan, config.frame, config.mode, &axes, config.lateral_offset_m);
+  thread_local Cloud aligned;
+  align_scan(scan, config.frame, config.mode, aligned, &axes, config.lateral_offset_m);
   if (frame) *frame = axes;
   const double mean = cloud_gray_mean(aligned, config.mode);
   const int versions = 1 + static_cast<int>(config.lateral_versions_m.size());
-  Signature rows(versions, 2 * config.rings * config.sectors);
+  std::vector<Eigen::Vector2d> centres;
   for (int v = 0; v < versions; ++v) {
     const double offset = v > 0 ? config.lateral_versions_m[v - 1] : 0.0;
     const Eigen::Vector3d side = axes * Eigen::Vector3d(offset, 0, 0);  // camera x: right
-    const ScanContext sc = bin_aligned(aligned, config, side.tail<2>(), mean);
+    centres.push_back(side.tail<2>());
+  }
+  Signature rows(versions, 2 * config.rings * config.sectors);
+  if (scan_context_rows_usable(config)) {  // every version from one pass over the points
+    scan_context_rows(aligned, config, centres, mean, rows);
+    return rows;
+  }
+  for (int v = 0; v < versions; ++v) {
+    const ScanContext sc = bin_aligned(aligned, config, centres[v], mean);
     rows.row(v) << sc.structure.transpose(), sc.intensity.transpose();
   }
   return rows;
