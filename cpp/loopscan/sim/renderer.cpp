@@ -61,6 +61,53 @@ HitRef first_hit(const View& view, int u, int v, const Eigen::Vector3d& d, doubl
   return best;
 }
 
+// Road / sidewalk / ground of the ground hits along a row. The centreline distance is
+// 1-Lipschitz, so a point closer to the last queried one than that query's margin to the class
+// borders has its class: most ground pixels need no nearest-segment search.
+class GroundClasses {
+ public:
+  explicit GroundClasses(const StaticWorld& w)
+      : w_(w),
+        borders_{w.config.road_half_width_m,
+                 w.config.road_half_width_m + w.config.sidewalk_width_m} {}
+  Surface at(double x, double z) {
+    const double dx = x - x_, dz = z - z_;
+    if (dx * dx + dz * dz < reach2_) return surface_;
+    const double d = w_.centreline.nearest(x, z).distance;
+    const double reach =
+        std::min(std::abs(d - borders_[0]), std::abs(d - borders_[1])) * (1.0 - 1e-9) - 1e-9;
+    x_ = x;
+    z_ = z;
+    reach2_ = reach > 0.0 ? reach * reach : -1.0;
+    surface_ = ground_surface(w_, d);
+    return surface_;
+  }
+
+ private:
+  const StaticWorld& w_;
+  double borders_[2];
+  double x_ = 0.0, z_ = 0.0, reach2_ = -1.0;
+  Surface surface_ = Surface::Ground;
+};
+
+// The albedo-only shading of a hit found by first_hit.
+Hit shade(const View& view, const HitRef& ref, const Eigen::Vector3d& d, double t,
+          const Conditions& conditions, GroundClasses& ground) {
+  if (!ref.ground)
+    return shade_hit(*view.world, ref, view.origin, d, t, view.cars.get(), conditions, false);
+  const Eigen::Vector3d p = view.origin + t * d;
+  return shade_ground_as(*view.world, ground.at(p.x(), p.z()), p, t, conditions, false);
+}
+
+// std::lround(g) clamped to 0..255 without the library call: g - trunc(g) is exact, so
+// comparing it with 0.5 rounds halves away from zero exactly as lround does.
+std::uint8_t gray_level(double g) {
+  g = g >= -1.0 ? std::min(g, 256.0) : -1.0;  // NaN -> -1 -> 0
+  const int i = static_cast<int>(g);
+  const double f = g - i;
+  return static_cast<std::uint8_t>(std::clamp(i + (f >= 0.5) - (f <= -0.5), 0, 255));
+}
+
 // Runs pixel(u, v, ray, hit) over the image rows split between the threads; rows(v) starts a
 // row (per-row state such as the noise stream).
 template <class Row>
@@ -100,6 +147,8 @@ GrayImage render_view(const World& world, const Conditions& conditions, const St
     std::mt19937 rng(config.seed * 2654435761u + static_cast<unsigned>(frame) * 97u +
                      static_cast<unsigned>(camera_index) * 7919u + static_cast<unsigned>(v));
     std::normal_distribution<double> noise(0.0, config.noise_sigma > 0 ? config.noise_sigma : 1.0);
+    std::optional<GroundClasses> ground;
+    if (view.world) ground.emplace(*view.world);
     for (int u = 0; u < camera.width; ++u) {
       const Eigen::Vector3d ray = view.R * camera.ray(u, v);
       std::optional<Hit> hit;
@@ -108,16 +157,13 @@ GrayImage render_view(const World& world, const Conditions& conditions, const St
       } else if (view.world) {
         double t = config.max_distance_m;
         const HitRef ref = first_hit(view, u, v, ray, t);
-        if (ref.found)
-          hit =
-              shade_hit(*view.world, ref, view.origin, ray, t, view.cars.get(), conditions, false);
+        if (ref.found) hit = shade(view, ref, ray, t, conditions, *ground);
       }
       // Sky: brighter towards the horizon (world y points down: -ray.y is the elevation).
       double g = hit ? World::gray(*hit, conditions)
                      : config.sky_gray * (1.0 - 0.25 * std::clamp(-ray.y(), 0.0, 1.0));
       if (config.noise_sigma > 0) g += noise(rng);
-      image.pixels[static_cast<std::size_t>(v) * camera.width + u] =
-          static_cast<std::uint8_t>(std::clamp(std::lround(g), 0l, 255l));
+      image.pixels[static_cast<std::size_t>(v) * camera.width + u] = gray_level(g);
     }
   });
   return image;

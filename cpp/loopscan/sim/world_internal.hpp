@@ -80,6 +80,12 @@ inline void test_object(const StaticWorld& w, std::uint32_t code, const Eigen::V
   best = HitRef{code, face, cap, false, true};
 }
 
+// Road, sidewalk or ground at a ground point, by its horizontal distance to the centreline.
+Surface ground_surface(const StaticWorld& w, double centreline_distance);
+// A ground hit of a known surface class (what shade_hit does for ground hits after the query).
+Hit shade_ground_as(const StaticWorld& w, Surface s, const Eigen::Vector3d& p, double t,
+                    const Conditions& c, bool gradient);
+
 // Surface, albedo (season applied) and, if `gradient`, texture gradient of a found hit at
 // distance t; cars: this session's parked cars (needed for car hits only).
 Hit shade_hit(const StaticWorld& w, const HitRef& ref, const Eigen::Vector3d& o,

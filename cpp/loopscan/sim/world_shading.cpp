@@ -23,24 +23,8 @@ double grass_shift(Season s) { return s == Season::Spring ? 0.05 : s == Season::
 
 Hit shade_ground(const StaticWorld& w, const Eigen::Vector3d& p, double t, const Conditions& c,
                  bool g) {
-  const double d = w.centreline.nearest(p.x(), p.z()).distance;
-  const double rhw = w.config.road_half_width_m;
-  const std::uint32_t salt = w.ground_salt;
-  const bool snow = has_snow(c.season);
-  if (d < rhw) {  // the road is cleared of snow
-    return make_hit(t, p, Surface::Road,
-                    sample_surface([&](double x, double z) { return road_albedo(salt, x, z); },
-                                   p.x(), p.z(), g),
-                    -1);
-  }
-  const Surface s = d < rhw + w.config.sidewalk_width_m ? Surface::Sidewalk : Surface::Ground;
-  const double shift = grass_shift(c.season);
-  const auto albedo = [&](double x, double z) {
-    if (snow) return snow_albedo(salt + 17, x, z);
-    if (s == Surface::Sidewalk) return sidewalk_albedo(salt + 29, x, z);
-    return std::fmin(1.0, grass_albedo(salt + 41, x, z) + shift);
-  };
-  return make_hit(t, p, s, sample_surface(albedo, p.x(), p.z(), g), -1);
+  return shade_ground_as(w, ground_surface(w, w.centreline.nearest(p.x(), p.z()).distance), p, t, c,
+                         g);
 }
 
 Hit shade_facade(const StaticWorld& w, const FacadeObject& f, int face, const Eigen::Vector3d& p,
@@ -114,6 +98,32 @@ Hit shade_car(const ParkedCar& car, int id, int face, const Eigen::Vector3d& p, 
 }
 
 }  // namespace
+
+Surface ground_surface(const StaticWorld& w, double centreline_distance) {
+  const double rhw = w.config.road_half_width_m;
+  if (centreline_distance < rhw) return Surface::Road;
+  return centreline_distance < rhw + w.config.sidewalk_width_m ? Surface::Sidewalk
+                                                               : Surface::Ground;
+}
+
+Hit shade_ground_as(const StaticWorld& w, Surface s, const Eigen::Vector3d& p, double t,
+                    const Conditions& c, bool g) {
+  const std::uint32_t salt = w.ground_salt;
+  if (s == Surface::Road) {  // the road is cleared of snow
+    return make_hit(t, p, Surface::Road,
+                    sample_surface([&](double x, double z) { return road_albedo(salt, x, z); },
+                                   p.x(), p.z(), g),
+                    -1);
+  }
+  const bool snow = has_snow(c.season);
+  const double shift = grass_shift(c.season);
+  const auto albedo = [&](double x, double z) {
+    if (snow) return snow_albedo(salt + 17, x, z);
+    if (s == Surface::Sidewalk) return sidewalk_albedo(salt + 29, x, z);
+    return std::fmin(1.0, grass_albedo(salt + 41, x, z) + shift);
+  };
+  return make_hit(t, p, s, sample_surface(albedo, p.x(), p.z(), g), -1);
+}
 
 Hit shade_hit(const StaticWorld& w, const HitRef& ref, const Eigen::Vector3d& o,
               const Eigen::Vector3d& d, double t, const std::vector<ParkedCar>* cars,
