@@ -6,6 +6,8 @@
 #include <random>
 
 #include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/descriptors/m2dp.hpp"
+#include "loopscan/core/descriptors/m2dp_bins.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
 #include "loopscan/core/descriptors/scan_context.hpp"
 #include "support/test_support.hpp"
@@ -117,6 +119,81 @@ TEST(ScanContextOracle, EmptyAndSinglePointScans) {
     EXPECT_EQ(scan_context_signature(small, c).row(0), scan_context_oracle(aligned, c, 0.0, 0.0))
         << n;
   }
+}
+
+PlanarCloud planar(const Cloud& aligned) {
+  PlanarCloud soa;
+  const std::size_t padded = (aligned.size() + 15) / 16 * 16;
+  soa.x.assign(padded, 1e30f);
+  soa.y.assign(padded, 0.f);
+  soa.z.assign(padded, 0.f);
+  soa.gray.assign(padded, 0.f);
+  for (std::size_t i = 0; i < aligned.size(); ++i) {
+    soa.x[i] = static_cast<float>(aligned[i].p(0));
+    soa.y[i] = static_cast<float>(aligned[i].p(1));
+    soa.z[i] = static_cast<float>(aligned[i].p(2));
+    soa.gray[i] = aligned[i].intensity;
+  }
+  return soa;
+}
+
+// The packed integer accumulation (count and gray sum in one add) against the ordered double
+// sums, bit for bit, for gray values of every kind; and m2dp_matrices against the double path.
+TEST(M2dpOracle, PackedSumsEqualOrderedDoubleSums) {
+  const M2dpConfig cfg;
+  Eigen::Matrix3Xd xa, ya;
+  m2dp_plane_axes(cfg, xa, ya);
+  const M2dpBinner binner(cfg.azimuth_bins, cfg.radial_bins, cfg.max_radius_m);
+  const int bins = cfg.azimuth_bins * cfg.radial_bins;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.f, 255.f);
+  int packed_runs = 0, plain_runs = 0;
+  for (int kind = 0; kind < 5; ++kind) {
+    for (int n : {2000, 2001, 6343}) {
+      Cloud aligned = pca_align(test::street_cloud(kind + 1, n), Mode::Default);
+      for (std::size_t i = 0; i < aligned.size(); ++i) {
+        float& g = aligned[i].intensity;
+        if (kind == 0) g = std::floor(u(rng));                    // gray levels
+        if (kind == 1) g = u(rng);                                // any float in 0..255
+        if (kind == 2) g = i % 3 == 0 ? u(rng) * 1e-4f : u(rng);  // too fine to pack
+        if (kind == 3) g = i % 7 == 0 ? 0.f : 1.f / (1 + i % 13);
+        if (kind == 4) g = u(rng) - 10.f;  // negative: the double path
+      }
+      PlanarCloud soa = planar(aligned);
+      const bool packed = pack_gray(soa, soa.gray.size());
+      EXPECT_EQ(packed, kind != 2 && kind != 4) << kind;
+      (packed ? packed_runs : plain_runs)++;
+      std::vector<double> count(xa.cols() * bins, 0.0), gray(count.size(), 0.0);
+      for (Eigen::Index k = 0; k < xa.cols(); ++k) {
+        binner.accumulate(soa, xa.col(k), ya.col(k), &count[k * bins], &gray[k * bins]);
+      }
+      if (packed) {
+        std::vector<long long> acc(count.size(), 0);
+        for (Eigen::Index k = 0; k < xa.cols(); ++k) {
+          binner.accumulate_packed(soa, xa.col(k), ya.col(k), &acc[k * bins]);
+        }
+        for (std::size_t i = 0; i < acc.size(); ++i) {
+          ASSERT_EQ(static_cast<double>(acc[i] >> soa.count_shift), count[i]) << kind << " " << i;
+          const long long low = acc[i] & ((1LL << soa.count_shift) - 1);
+          ASSERT_EQ(static_cast<double>(low) * soa.gray_unit, gray[i]) << kind << " " << i;
+        }
+      }
+      // m2dp_matrices (whichever path it takes) against the ordered sums.
+      const M2dpMatrices m = m2dp_matrices(aligned, cfg);
+      double mean = 0;
+      for (const PointI& q : aligned) mean += q.intensity;
+      mean /= static_cast<double>(aligned.size());
+      for (Eigen::Index k = 0; k < xa.cols(); ++k) {
+        for (int b = 0; b < bins; ++b) {
+          const double c = count[k * bins + b], g = gray[k * bins + b];
+          ASSERT_EQ(m.count(k, b), std::log1p(c));
+          ASSERT_EQ(m.gray(k, b), c > 0 && g / c > mean ? 1.0 : 0.0);
+        }
+      }
+    }
+  }
+  EXPECT_EQ(packed_runs, 9);
+  EXPECT_EQ(plain_runs, 6);
 }
 
 }  // namespace
