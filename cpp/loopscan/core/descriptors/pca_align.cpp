@@ -101,12 +101,20 @@ void align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Cloud& out
     out = pca_align(cloud, mode, to_aligned);
     return;
   }
-  Eigen::Matrix3d axes = camera_axes();
+  Eigen::Vector3d centre;
+  const Eigen::Matrix3d axes = scan_axes(cloud, frame, &centre, lateral_offset_m);
+  if (to_aligned) *to_aligned = axes;
   out.resize(cloud.size());
-  if (cloud.empty()) {
-    if (to_aligned) *to_aligned = axes;
-    return;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    out[i] = {axes * (cloud[i].p - centre), cloud[i].intensity};
   }
+}
+
+Eigen::Matrix3d scan_axes(const Cloud& cloud, DescriptorFrame frame, Eigen::Vector3d* centre_out,
+                          double lateral_offset_m) {
+  Eigen::Matrix3d axes = camera_axes();
+  *centre_out = Eigen::Vector3d::Zero();
+  if (cloud.empty()) return axes;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const PointI& q : cloud) centroid += q.p;
   centroid /= static_cast<double>(cloud.size());
@@ -143,10 +151,8 @@ void align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Cloud& out
     axes.row(2) << v.x(), 0, v.y();
     if (axes.determinant() < 0) axes.row(1) = -axes.row(1);
   }
-  if (to_aligned) *to_aligned = axes;
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    out[i] = {axes * (cloud[i].p - centre), cloud[i].intensity};
-  }
+  *centre_out = centre;
+  return axes;
 }
 
 }  // namespace loopscan

@@ -172,9 +172,13 @@ bool scan_context_rows_usable(const ScanContextConfig& c) {
          static_cast<long>(c.rings) * c.sectors < (1L << 30);
 }
 
-void scan_context_rows(const Cloud& aligned, const ScanContextConfig& config,
-                       const std::vector<Eigen::Vector2d>& centres, double mean,
-                       Eigen::MatrixXd& out) {
+namespace {
+
+// `frame` null: `points` are aligned and `mean` given; else they are aligned here, as
+// align_scan does (axes * (p - centre)), and the gray mean summed in the same pass.
+void rows_impl(const Cloud& points, const AlignFrame* frame, const ScanContextConfig& config,
+               const std::vector<Eigen::Vector2d>& centres, double mean, Eigen::MatrixXd& out) {
+  const Cloud& aligned = points;
   const int rings = config.rings, sectors = config.sectors, nb = rings * sectors;
   const AngleBinner binner(sectors / (2.0 * M_PI), M_PI);
   constexpr int kPad = 8;  // the widest kernel's lanes
@@ -186,11 +190,24 @@ void scan_context_rows(const Cloud& aligned, const ScanContextConfig& config,
   z.assign(n_vec, 0.0);
   h.resize(n);
   g.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    x[i] = aligned[i].p(1);
-    z[i] = aligned[i].p(2);
-    h[i] = aligned[i].p(0);
-    g[i] = aligned[i].intensity;
+  if (frame) {
+    double sum = 0.0;  // cloud_gray_mean's sum, in the same order
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d p = frame->axes * (points[i].p - frame->centre);
+      x[i] = p(1);
+      z[i] = p(2);
+      h[i] = p(0);
+      g[i] = points[i].intensity;
+      sum += points[i].intensity;
+    }
+    mean = n > 0 ? sum / static_cast<double>(n) : 0.0;
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] = aligned[i].p(1);
+      z[i] = aligned[i].p(2);
+      h[i] = aligned[i].p(0);
+      g[i] = aligned[i].intensity;
+    }
   }
   bins.resize(centres.size() * n_vec);
   const std::vector<double>& tan = binner.boundaries();
@@ -225,6 +242,19 @@ void scan_context_rows(const Cloud& aligned, const ScanContextConfig& config,
     out.row(static_cast<Eigen::Index>(c)) =
         Eigen::Map<const Eigen::RowVectorXd>(row.data(), 2 * nb);
   }
+}
+
+}  // namespace
+
+void scan_context_rows(const Cloud& aligned, const ScanContextConfig& config,
+                       const std::vector<Eigen::Vector2d>& centres, double mean,
+                       Eigen::MatrixXd& out) {
+  rows_impl(aligned, nullptr, config, centres, mean, out);
+}
+
+void scan_context_rows(const Cloud& scan, const AlignFrame& frame, const ScanContextConfig& config,
+                       const std::vector<Eigen::Vector2d>& centres, Eigen::MatrixXd& out) {
+  rows_impl(scan, &frame, config, centres, 0.0, out);
 }
 
 }  // namespace loopscan

@@ -23,4 +23,15 @@ void scan_context_rows(const Cloud& aligned, const ScanContextConfig& config,
                        const std::vector<Eigen::Vector2d>& centres, double mean,
                        Eigen::MatrixXd& out);
 
+// The same from the scan itself, aligned on the fly (no aligned copy): frame.axes * (p -
+// frame.centre), as align_scan; the gray mean summed as cloud_gray_mean. For axes whose
+// entries are 0 and +-1 (camera and centroid frames) every product is exact, so the points
+// equal align_scan's whatever the compiler fuses.
+struct AlignFrame {
+  Eigen::Matrix3d axes;
+  Eigen::Vector3d centre;
+};
+void scan_context_rows(const Cloud& scan, const AlignFrame& frame, const ScanContextConfig& config,
+                       const std::vector<Eigen::Vector2d>& centres, Eigen::MatrixXd& out);
+
 }  // namespace loopscan
