@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <random>
 #include <string>
 
+#include "loopscan/sim/render_noise.hpp"
 #include "loopscan/sim/renderer.hpp"
 #include "loopscan/sim/trajectory.hpp"
 
@@ -93,6 +96,46 @@ TEST(RenderOracle, EmptyWorldIsAllSky) {
   const auto depth =
       sim::render_depth(empty, sim::Conditions{}, cam, Eigen::Isometry3d::Identity(), 0, rc);
   for (const double d : depth) ASSERT_EQ(d, 0.0);
+}
+
+// FNV-1a digests of views of the short street (half resolution, noise on) as the renderer drew
+// them before the tile lists (one World::raycast per pixel, std::normal_distribution noise,
+// commit 0226d70): the speed-ups changed no pixel. glibc's libm on x86-64.
+TEST(RenderOracle, ImagesAreBitIdenticalToTheGridWalkRenderer) {
+#if defined(__GLIBC__) && defined(__x86_64__)
+  const sim::Trajectory route = sim::make_builtin_trajectory("short");
+  const sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
+  const sim::StereoCamera cam = sim::scaled_camera(sim::StereoCamera{}, 0.5);
+  const std::uint64_t expected[2][2] = {{0x9b5bb024ba7bcc1fULL, 0xca224da87adacee7ULL},
+                                        {0xe8646cfdb31c3a92ULL, 0xa5861ebcdf417b79ULL}};
+  for (int s = 0; s < 2; ++s) {
+    const auto c = sim::Conditions::for_season(s == 0 ? sim::Season::Summer : sim::Season::Winter);
+    for (int side = 0; side < 2; ++side) {
+      const auto g = sim::render_view(world, c, cam, route.T_world_cam[40], side, 40, {});
+      std::uint64_t h = 0xcbf29ce484222325ULL;
+      for (const std::uint8_t p : g.pixels) h = (h ^ p) * 0x100000001b3ULL;
+      EXPECT_EQ(h, expected[s][side]) << "season " << s << " camera " << side;
+    }
+  }
+#else
+  GTEST_SKIP() << "digests taken with glibc on x86-64";
+#endif
+}
+
+TEST(RenderOracle, SensorNoiseIsTheStandardLibrarysStream) {
+  for (const unsigned seed : {0u, 1u, 5489u, 2654435761u, 4294967295u}) {
+    std::mt19937 reference_rng(seed);
+    sim::Mt19937 rng(seed);
+    for (int i = 0; i < 2000; ++i) ASSERT_EQ(rng(), reference_rng()) << seed << " draw " << i;
+  }
+#if defined(__GLIBCXX__)  // the polar method and its order are libstdc++'s
+  for (const unsigned seed : {1u, 77u, 3141592653u}) {
+    std::mt19937 reference_rng(seed);
+    std::normal_distribution<double> reference(0.0, 1.5);
+    sim::GaussianNoise noise(seed, 1.5);
+    for (int i = 0; i < 5000; ++i) ASSERT_EQ(noise(), reference(reference_rng)) << seed << " " << i;
+  }
+#endif
 }
 
 }  // namespace

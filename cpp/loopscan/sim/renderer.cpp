@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 
 #include "loopscan/core/parallel.hpp"
+#include "loopscan/sim/render_noise.hpp"
 #include "loopscan/sim/render_visibility.hpp"
+#include "loopscan/sim/texture_noise.hpp"
 #include "loopscan/sim/world_internal.hpp"
 
 namespace loopscan::sim {
@@ -118,6 +119,43 @@ void for_each_row(const StereoCamera& camera, int threads, Row&& row) {
   });
 }
 
+struct RowJob {
+  const World& world;
+  const Conditions& conditions;
+  const StereoCamera& camera;
+  const View& view;
+  const RenderConfig& config;
+  int frame, camera_index;
+  std::vector<std::uint8_t>& pixels;
+};
+
+// Row v of a view: ray, nearest hit, albedo, gray, sensor noise.
+LOOPSCAN_SIM_CLONES void render_row(const RowJob& job, int v) {
+  const auto& [world, conditions, camera, view, config, frame, camera_index, pixels] = job;
+  // One noise stream per row: the image does not depend on the thread count.
+  GaussianNoise noise(config.seed * 2654435761u + static_cast<unsigned>(frame) * 97u +
+                          static_cast<unsigned>(camera_index) * 7919u + static_cast<unsigned>(v),
+                      config.noise_sigma > 0 ? config.noise_sigma : 1.0);
+  std::optional<GroundClasses> ground;
+  if (view.world) ground.emplace(*view.world);
+  for (int u = 0; u < camera.width; ++u) {
+    const Eigen::Vector3d ray = view.R * camera.ray(u, v);
+    std::optional<Hit> hit;
+    if (config.raycast_every_pixel) {
+      hit = world.raycast(view.origin, ray, config.max_distance_m, conditions);
+    } else if (view.world) {
+      double t = config.max_distance_m;
+      const HitRef ref = first_hit(view, u, v, ray, t);
+      if (ref.found) hit = shade(view, ref, ray, t, conditions, *ground);
+    }
+    // Sky: brighter towards the horizon (world y points down: -ray.y is the elevation).
+    double g = hit ? World::gray(*hit, conditions)
+                   : config.sky_gray * (1.0 - 0.25 * std::clamp(-ray.y(), 0.0, 1.0));
+    if (config.noise_sigma > 0) g += noise();
+    pixels[static_cast<std::size_t>(v) * camera.width + u] = gray_level(g);
+  }
+}
+
 }  // namespace
 
 StereoCamera scaled_camera(const StereoCamera& camera, double scale) {
@@ -142,30 +180,8 @@ GrayImage render_view(const World& world, const Conditions& conditions, const St
   image.pixels.assign(static_cast<std::size_t>(camera.width) * camera.height, 0);
   const View view =
       make_view(world, conditions, camera, T_world_cam, camera_index, config.max_distance_m);
-  for_each_row(camera, config.threads, [&](int v) {
-    // One noise stream per row: the image does not depend on the thread count.
-    std::mt19937 rng(config.seed * 2654435761u + static_cast<unsigned>(frame) * 97u +
-                     static_cast<unsigned>(camera_index) * 7919u + static_cast<unsigned>(v));
-    std::normal_distribution<double> noise(0.0, config.noise_sigma > 0 ? config.noise_sigma : 1.0);
-    std::optional<GroundClasses> ground;
-    if (view.world) ground.emplace(*view.world);
-    for (int u = 0; u < camera.width; ++u) {
-      const Eigen::Vector3d ray = view.R * camera.ray(u, v);
-      std::optional<Hit> hit;
-      if (config.raycast_every_pixel) {
-        hit = world.raycast(view.origin, ray, config.max_distance_m, conditions);
-      } else if (view.world) {
-        double t = config.max_distance_m;
-        const HitRef ref = first_hit(view, u, v, ray, t);
-        if (ref.found) hit = shade(view, ref, ray, t, conditions, *ground);
-      }
-      // Sky: brighter towards the horizon (world y points down: -ray.y is the elevation).
-      double g = hit ? World::gray(*hit, conditions)
-                     : config.sky_gray * (1.0 - 0.25 * std::clamp(-ray.y(), 0.0, 1.0));
-      if (config.noise_sigma > 0) g += noise(rng);
-      image.pixels[static_cast<std::size_t>(v) * camera.width + u] = gray_level(g);
-    }
-  });
+  const RowJob job{world, conditions, camera, view, config, frame, camera_index, image.pixels};
+  for_each_row(camera, config.threads, [&](int v) { render_row(job, v); });
   return image;
 }
 

@@ -16,7 +16,7 @@ thread_local Cell2 cells2[256];
 
 }  // namespace
 
-double value_noise2(double x, double y, std::uint32_t salt) {
+LOOPSCAN_SIM_CLONES double value_noise2(double x, double y, std::uint32_t salt) {
   const double fx = std::floor(x), fy = std::floor(y);
   const std::uint32_t ix = lattice(x), iy = lattice(y);
   const double tx = fade(x - fx), ty = fade(y - fy);
@@ -32,7 +32,7 @@ double value_noise2(double x, double y, std::uint32_t salt) {
   return lerp(lerp(c.v[0], c.v[1], tx), lerp(c.v[2], c.v[3], tx), ty);
 }
 
-double value_noise3(double x, double y, double z, std::uint32_t salt) {
+LOOPSCAN_SIM_CLONES double value_noise3(double x, double y, double z, std::uint32_t salt) {
   const double fx = std::floor(x), fy = std::floor(y), fz = std::floor(z);
   const std::uint32_t ix = lattice(x), iy = lattice(y), iz = lattice(z);
   const double tx = fade(x - fx), ty = fade(y - fy), tz = fade(z - fz);
@@ -46,7 +46,7 @@ double value_noise3(double x, double y, double z, std::uint32_t salt) {
   return lerp(layer[0], layer[1], tz);
 }
 
-double fbm2(double x, double y, std::uint32_t salt, int octaves) {
+LOOPSCAN_SIM_CLONES double fbm2(double x, double y, std::uint32_t salt, int octaves) {
   double sum = 0.0, norm = 0.0, amp = 1.0, freq = 1.0;
   for (int o = 0; o < octaves; ++o) {
     sum += amp * value_noise2(x * freq, y * freq, salt + static_cast<std::uint32_t>(o) * 7919U);

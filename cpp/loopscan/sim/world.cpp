@@ -105,12 +105,6 @@ World World::from_primitives(const std::vector<Eigen::Vector3d>& centreline,
   return out;
 }
 
-double World::gray(const Hit& hit, const Conditions& conditions) {
-  const double x = std::clamp(conditions.illumination_gain * hit.albedo, 0.0, 1.0);
-  // pow(x, 1) is x exactly; skipping it saves a tenth of a render.
-  return 255.0 * (conditions.gamma == 1.0 ? x : std::pow(x, conditions.gamma));
-}
-
 std::size_t World::object_count() const {
   if (!world_) return 0;
   return world_->facades.size() + world_->posts.size() + world_->crowns.size();
