@@ -1,5 +1,7 @@
 // The stereo renderer at KITTI resolution (1241x376) on the built-in city, summer: stereo pairs
-// per second on 1 and 2 threads (Arg = threads). On demand.
+// per second on 1 and 2 threads (Arg = threads), and its stages on one thread, per view:
+// visibility only (render_depth: tile lists + ray tests), + shading (no sensor noise), and the
+// per-pixel oracle (World::raycast, what the renderer did before). On demand.
 #include <benchmark/benchmark.h>
 
 #include "loopscan/sim/renderer.hpp"
@@ -21,15 +23,19 @@ const Scene& scene() {
   return s;
 }
 
+// 24 frames spread over the route: straights, turns, open and dense streets.
+int frame_of(int i) {
+  const int n = static_cast<int>(scene().route.T_world_cam.size());
+  return static_cast<int>((static_cast<long>(i % 24) * 2 + 1) * n / 48);
+}
+
 void BM_RenderStereoPair(benchmark::State& state) {
   const Scene& s = scene();
   sim::RenderConfig rc;
   rc.threads = static_cast<int>(state.range(0));
   int i = 0;
   for (auto _ : state) {
-    // 24 frames spread over the route: straights, turns, open and dense streets.
-    const int n = static_cast<int>(s.route.T_world_cam.size());
-    const int frame = static_cast<int>((static_cast<long>(i++ % 24) * 2 + 1) * n / 48);
+    const int frame = frame_of(i++);
     for (int side = 0; side < 2; ++side)
       benchmark::DoNotOptimize(sim::render_view(s.world, s.conditions, s.camera,
                                                 s.route.T_world_cam[frame], side, frame, rc));
@@ -38,6 +44,24 @@ void BM_RenderStereoPair(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_RenderStereoPair)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Arg 0: visibility only; 1: + shading, no noise; 2: the whole view; 3: the oracle.
+void BM_RenderViewStage(benchmark::State& state) {
+  const Scene& s = scene();
+  sim::RenderConfig rc;
+  rc.noise_sigma = state.range(0) == 1 ? 0.0 : rc.noise_sigma;
+  rc.raycast_every_pixel = state.range(0) == 3;
+  int i = 0;
+  for (auto _ : state) {
+    const int frame = frame_of(i++);
+    const auto& T = s.route.T_world_cam[frame];
+    if (state.range(0) == 0)
+      benchmark::DoNotOptimize(sim::render_depth(s.world, s.conditions, s.camera, T, 0, rc));
+    else
+      benchmark::DoNotOptimize(sim::render_view(s.world, s.conditions, s.camera, T, 0, frame, rc));
+  }
+}
+BENCHMARK(BM_RenderViewStage)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -83,20 +83,22 @@ void BM_ImitateCrop(benchmark::State& state) {
 void BM_ImitateFast(benchmark::State& state) {
   const Data& d = data();
   const auto filter = static_cast<ScanFilter>(state.range(0));
-  std::size_t scans = 0;
+  std::size_t scans = 0, points = 0;
   for (auto _ : state) {
     ScanImitator im;
     CameraPoints in;
-    scans = 0;
+    scans = points = 0;
     for_each_keyframe(
         d.poses, d.points, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
           if (im.add_keyframe(k, p, n, false, in)) {
             ++scans;
+            points += in.size();
             benchmark::DoNotOptimize(filter_camera_points(in, filter, ImitationConfig{}).data());
           }
         });
   }
   per_item(state, scans);
+  state.counters["points"] = static_cast<double>(points) / static_cast<double>(scans);  // cropped
 }
 
 void BM_Filter(benchmark::State& state) {
@@ -123,6 +125,9 @@ void BM_Describe(benchmark::State& state) {
       benchmark::DoNotOptimize(describe(method, scans[i], cfg).data());
   }
   per_item(state, n);
+  std::size_t points = 0;
+  for (std::size_t i = 0; i < n; ++i) points += scans[i].size();
+  state.counters["points"] = static_cast<double>(points) / static_cast<double>(n);  // a scan
 }
 
 // Times one difference-matrix row per iteration: `n` places (sigs cycled), queries cycling

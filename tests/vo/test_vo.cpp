@@ -20,7 +20,7 @@ namespace loopscan {
 namespace {
 
 const test::ShortStreet& scene() {
-  static const test::ShortStreet s(0.5);
+  static const test::ShortStreet s(1.0);
   return s;
 }
 

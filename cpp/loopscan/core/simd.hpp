@@ -32,14 +32,19 @@ inline void store(void* p, const V& v) {
 
 // True when the AVX2+FMA instantiations may run on this CPU.
 bool has_avx2();
+// True when the AVX-512 (F, DQ, VL) instantiations may run: a few kernels whose lanes are
+// independent, so they give the same bits as their AVX2 instantiation, only more at a time.
+bool has_avx512();
 
 }  // namespace loopscan::simd
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define LOOPSCAN_AVX2 __attribute__((target("avx2,fma")))
+#define LOOPSCAN_AVX512 __attribute__((target("avx2,fma,avx512f,avx512dq,avx512vl")))
 #define LOOPSCAN_HAVE_AVX2_CLONES 1
 #else
 #define LOOPSCAN_AVX2
+#define LOOPSCAN_AVX512
 #define LOOPSCAN_HAVE_AVX2_CLONES 0
 #endif
 #define LOOPSCAN_INLINE inline __attribute__((always_inline))

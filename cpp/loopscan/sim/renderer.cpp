@@ -2,11 +2,161 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 
 #include "loopscan/core/parallel.hpp"
+#include "loopscan/sim/render_noise.hpp"
+#include "loopscan/sim/render_visibility.hpp"
+#include "loopscan/sim/texture_noise.hpp"
+#include "loopscan/sim/world_internal.hpp"
 
 namespace loopscan::sim {
+namespace {
+
+// One view: camera centre, rotation, this session's cars and the tile lists of the objects.
+struct View {
+  const StaticWorld* world = nullptr;  // null: an empty world, every ray misses
+  std::shared_ptr<const std::vector<ParkedCar>> cars;
+  Eigen::Vector3d origin;
+  Eigen::Matrix3d R;
+  TileBins bins;
+  double density = 0.0;
+};
+
+View make_view(const World& world, const Conditions& conditions, const StereoCamera& camera,
+               const Eigen::Isometry3d& T_world_cam, int camera_index, double max_distance) {
+  View view;
+  view.origin =
+      T_world_cam * Eigen::Vector3d(camera_index == 1 ? camera.baseline() : 0.0, 0.0, 0.0);
+  view.R = T_world_cam.linear();
+  view.world = WorldAccess::world(world);
+  if (!view.world || !(max_distance > 0.0) || !view.origin.allFinite() || !view.R.allFinite()) {
+    view.world = nullptr;
+    return view;
+  }
+  view.cars = WorldAccess::cars(world, conditions.session_seed);
+  view.bins = bin_view(*view.world, *view.cars, camera, view.origin, view.R, max_distance);
+  view.density = foliage_density(conditions.season);
+  return view;
+}
+
+// Nearest hit of pixel (u, v)'s ray d within t_best (lowered to it): the ground, then the
+// tile's objects nearest first, as World::raycast finds it.
+HitRef first_hit(const View& view, int u, int v, const Eigen::Vector3d& d, double& t_best) {
+  HitRef best;
+  const StaticWorld& w = *view.world;
+  const double tg = ground_t(w, view.origin, d);
+  if (tg >= 0.0 && tg < t_best) {
+    t_best = tg;
+    best.ground = best.found = true;
+  }
+  const TileBins& b = view.bins;
+  const std::size_t tile =
+      static_cast<std::size_t>(v / TileBins::kTile) * b.tiles_x + u / TileBins::kTile;
+  const auto cars = [&]() -> const std::vector<ParkedCar>& { return *view.cars; };
+  for (std::uint32_t k = b.start[tile]; k < b.start[tile + 1]; ++k) {
+    const ViewCandidate& c = b.items[k];
+    if (c.min_distance >= t_best) break;  // this and every later object are farther
+    if (u < c.u0 || u > c.u1 || v < c.v0 || v > c.v1) continue;
+    test_object(w, c.code, view.origin, d, view.density, cars, t_best, best);
+  }
+  return best;
+}
+
+// Road / sidewalk / ground of the ground hits along a row. The centreline distance is
+// 1-Lipschitz, so a point closer to the last queried one than that query's margin to the class
+// borders has its class: most ground pixels need no nearest-segment search.
+class GroundClasses {
+ public:
+  explicit GroundClasses(const StaticWorld& w)
+      : w_(w),
+        borders_{w.config.road_half_width_m,
+                 w.config.road_half_width_m + w.config.sidewalk_width_m} {}
+  Surface at(double x, double z) {
+    const double dx = x - x_, dz = z - z_;
+    if (dx * dx + dz * dz < reach2_) return surface_;
+    const double d = w_.centreline.nearest(x, z).distance;
+    const double reach =
+        std::min(std::abs(d - borders_[0]), std::abs(d - borders_[1])) * (1.0 - 1e-9) - 1e-9;
+    x_ = x;
+    z_ = z;
+    reach2_ = reach > 0.0 ? reach * reach : -1.0;
+    surface_ = ground_surface(w_, d);
+    return surface_;
+  }
+
+ private:
+  const StaticWorld& w_;
+  double borders_[2];
+  double x_ = 0.0, z_ = 0.0, reach2_ = -1.0;
+  Surface surface_ = Surface::Ground;
+};
+
+// The albedo-only shading of a hit found by first_hit.
+Hit shade(const View& view, const HitRef& ref, const Eigen::Vector3d& d, double t,
+          const Conditions& conditions, GroundClasses& ground) {
+  if (!ref.ground)
+    return shade_hit(*view.world, ref, view.origin, d, t, view.cars.get(), conditions, false);
+  const Eigen::Vector3d p = view.origin + t * d;
+  return shade_ground_as(*view.world, ground.at(p.x(), p.z()), p, t, conditions, false);
+}
+
+// std::lround(g) clamped to 0..255 without the library call: g - trunc(g) is exact, so
+// comparing it with 0.5 rounds halves away from zero exactly as lround does.
+std::uint8_t gray_level(double g) {
+  g = g >= -1.0 ? std::min(g, 256.0) : -1.0;  // NaN -> -1 -> 0
+  const int i = static_cast<int>(g);
+  const double f = g - i;
+  return static_cast<std::uint8_t>(std::clamp(i + (f >= 0.5) - (f <= -0.5), 0, 255));
+}
+
+// Runs pixel(u, v, ray, hit) over the image rows split between the threads; rows(v) starts a
+// row (per-row state such as the noise stream).
+template <class Row>
+void for_each_row(const StereoCamera& camera, int threads, Row&& row) {
+  threads = std::max(1, threads);
+  run_on_threads(threads, [&](int t) {
+    for (int v = t; v < camera.height; v += threads) row(v);
+  });
+}
+
+struct RowJob {
+  const World& world;
+  const Conditions& conditions;
+  const StereoCamera& camera;
+  const View& view;
+  const RenderConfig& config;
+  int frame, camera_index;
+  std::vector<std::uint8_t>& pixels;
+};
+
+// Row v of a view: ray, nearest hit, albedo, gray, sensor noise.
+LOOPSCAN_SIM_CLONES void render_row(const RowJob& job, int v) {
+  const auto& [world, conditions, camera, view, config, frame, camera_index, pixels] = job;
+  // One noise stream per row: the image does not depend on the thread count.
+  GaussianNoise noise(config.seed * 2654435761u + static_cast<unsigned>(frame) * 97u +
+                          static_cast<unsigned>(camera_index) * 7919u + static_cast<unsigned>(v),
+                      config.noise_sigma > 0 ? config.noise_sigma : 1.0);
+  std::optional<GroundClasses> ground;
+  if (view.world) ground.emplace(*view.world);
+  for (int u = 0; u < camera.width; ++u) {
+    const Eigen::Vector3d ray = view.R * camera.ray(u, v);
+    std::optional<Hit> hit;
+    if (config.raycast_every_pixel) {
+      hit = world.raycast(view.origin, ray, config.max_distance_m, conditions);
+    } else if (view.world) {
+      double t = config.max_distance_m;
+      const HitRef ref = first_hit(view, u, v, ray, t);
+      if (ref.found) hit = shade(view, ref, ray, t, conditions, *ground);
+    }
+    // Sky: brighter towards the horizon (world y points down: -ray.y is the elevation).
+    double g = hit ? World::gray(*hit, conditions)
+                   : config.sky_gray * (1.0 - 0.25 * std::clamp(-ray.y(), 0.0, 1.0));
+    if (config.noise_sigma > 0) g += noise();
+    pixels[static_cast<std::size_t>(v) * camera.width + u] = gray_level(g);
+  }
+}
+
+}  // namespace
 
 StereoCamera scaled_camera(const StereoCamera& camera, double scale) {
   StereoCamera c = camera;
@@ -28,30 +178,34 @@ GrayImage render_view(const World& world, const Conditions& conditions, const St
   image.width = camera.width;
   image.height = camera.height;
   image.pixels.assign(static_cast<std::size_t>(camera.width) * camera.height, 0);
-  const Eigen::Vector3d origin =
-      T_world_cam * Eigen::Vector3d(camera_index == 1 ? camera.baseline() : 0.0, 0.0, 0.0);
-  const Eigen::Matrix3d R = T_world_cam.linear();
-  const int threads = std::max(1, config.threads);
-  run_on_threads(threads, [&](int t) {
-    for (int v = t; v < camera.height; v += threads) {
-      // One noise stream per row: the image does not depend on the thread count.
-      std::mt19937 rng(config.seed * 2654435761u + static_cast<unsigned>(frame) * 97u +
-                       static_cast<unsigned>(camera_index) * 7919u + static_cast<unsigned>(v));
-      std::normal_distribution<double> noise(0.0,
-                                             config.noise_sigma > 0 ? config.noise_sigma : 1.0);
-      for (int u = 0; u < camera.width; ++u) {
-        const Eigen::Vector3d ray = R * camera.ray(u, v);
-        const auto hit = world.raycast(origin, ray, config.max_distance_m, conditions);
-        // Sky: brighter towards the horizon (world y points down: -ray.y is the elevation).
-        double g = hit ? World::gray(*hit, conditions)
-                       : config.sky_gray * (1.0 - 0.25 * std::clamp(-ray.y(), 0.0, 1.0));
-        if (config.noise_sigma > 0) g += noise(rng);
-        image.pixels[static_cast<std::size_t>(v) * camera.width + u] =
-            static_cast<std::uint8_t>(std::clamp(std::lround(g), 0l, 255l));
+  const View view =
+      make_view(world, conditions, camera, T_world_cam, camera_index, config.max_distance_m);
+  const RowJob job{world, conditions, camera, view, config, frame, camera_index, image.pixels};
+  for_each_row(camera, config.threads, [&](int v) { render_row(job, v); });
+  return image;
+}
+
+std::vector<double> render_depth(const World& world, const Conditions& conditions,
+                                 const StereoCamera& camera, const Eigen::Isometry3d& T_world_cam,
+                                 int camera_index, const RenderConfig& config) {
+  std::vector<double> depth(static_cast<std::size_t>(camera.width) * camera.height, 0.0);
+  const View view =
+      make_view(world, conditions, camera, T_world_cam, camera_index, config.max_distance_m);
+  for_each_row(camera, config.threads, [&](int v) {
+    for (int u = 0; u < camera.width; ++u) {
+      const Eigen::Vector3d ray = view.R * camera.ray(u, v);
+      double t = 0.0;
+      if (config.raycast_every_pixel) {
+        const auto hit = world.raycast(view.origin, ray, config.max_distance_m, conditions);
+        if (hit) t = hit->distance;
+      } else if (view.world) {
+        double t_best = config.max_distance_m;
+        if (first_hit(view, u, v, ray, t_best).found) t = t_best;
       }
+      depth[static_cast<std::size_t>(v) * camera.width + u] = t;
     }
   });
-  return image;
+  return depth;
 }
 
 }  // namespace loopscan::sim

@@ -31,7 +31,8 @@ double wall_albedo(const FacadeStyle& s, double u, double v) {
 
 }  // namespace
 
-double facade_albedo(const FacadeStyle& s, double u, double v, double face_width, double height) {
+LOOPSCAN_SIM_CLONES double facade_albedo(const FacadeStyle& s, double u, double v,
+                                         double face_width, double height) {
   double a = wall_albedo(s, u, v);
   // A darker cornice band between the ground floor and the upper floors.
   a = mix(a, 0.7 * a,
@@ -85,15 +86,15 @@ double layered_albedo(std::uint32_t salt, double x, double z, double base, doubl
 
 }  // namespace
 
-double roof_albedo(std::uint32_t salt, double x, double z) {
+LOOPSCAN_SIM_CLONES double roof_albedo(std::uint32_t salt, double x, double z) {
   return layered_albedo(salt, x, z, 0.3, 0.14, 0.4, 2, 0.06, 4.0);
 }
 
-double road_albedo(std::uint32_t salt, double x, double z) {
+LOOPSCAN_SIM_CLONES double road_albedo(std::uint32_t salt, double x, double z) {
   return layered_albedo(salt, x, z, 0.16, 0.05, 0.3, 2, 0.025, 6.0);  // dark, low texture
 }
 
-double sidewalk_albedo(std::uint32_t salt, double x, double z) {
+LOOPSCAN_SIM_CLONES double sidewalk_albedo(std::uint32_t salt, double x, double z) {
   const double tile = 0.5;
   const double tx = std::floor(x / tile), tz = std::floor(z / tile);
   const double lx = x - tx * tile, lz = z - tz * tile;
@@ -104,26 +105,27 @@ double sidewalk_albedo(std::uint32_t salt, double x, double z) {
                  0.02 * (value_noise2(5.0 * x, 5.0 * z, salt + 1) - 0.5));
 }
 
-double grass_albedo(std::uint32_t salt, double x, double z) {
+LOOPSCAN_SIM_CLONES double grass_albedo(std::uint32_t salt, double x, double z) {
   return layered_albedo(salt, x, z, 0.26, 0.16, 0.4, 3, 0.08, 5.0);
 }
 
-double snow_albedo(std::uint32_t salt, double x, double z) {
+LOOPSCAN_SIM_CLONES double snow_albedo(std::uint32_t salt, double x, double z) {
   return layered_albedo(salt, x, z, 0.9, 0.03, 0.2, 2, 0.01, 3.0);  // snow hides the texture
 }
 
-double bark_albedo(std::uint32_t salt, double base, double u, double v) {
+LOOPSCAN_SIM_CLONES double bark_albedo(std::uint32_t salt, double base, double u, double v) {
   // Vertical stripes: fast variation around the trunk, slow along it.
   return clamp01(base + 0.12 * (value_noise2(10.0 * u, 0.8 * v, salt) - 0.5) +
                  0.05 * (value_noise2(25.0 * u, 3.0 * v, salt + 1) - 0.5));
 }
 
-double leaf_albedo(std::uint32_t salt, double base, double x, double y, double z) {
+LOOPSCAN_SIM_CLONES double leaf_albedo(std::uint32_t salt, double base, double x, double y,
+                                       double z) {
   return clamp01(base + 0.2 * (value_noise3(10.0 * x, 10.0 * y, 10.0 * z, salt) - 0.5) +
                  0.1 * (value_noise3(3.0 * x, 3.0 * y, 3.0 * z, salt + 1) - 0.5));
 }
 
-double car_side_albedo(const CarStyle& s, double u, double v) {
+LOOPSCAN_SIM_CLONES double car_side_albedo(const CarStyle& s, double u, double v) {
   if (!s.front_at_plus_u) u = s.length - u;
   double a = s.body + 0.03 * (value_noise2(2.0 * u, 2.0 * v, s.salt) - 0.5);
   a = mix(a, 0.5 * s.body + 0.05, smooth_box(v, -1.0, 0.35, kEdge));  // sill / bumper line
@@ -139,7 +141,7 @@ double car_side_albedo(const CarStyle& s, double u, double v) {
   return clamp01(mix(a, s.glass, window));
 }
 
-double car_end_albedo(const CarStyle& s, double u, double v, bool front) {
+LOOPSCAN_SIM_CLONES double car_end_albedo(const CarStyle& s, double u, double v, bool front) {
   const double w = s.width;
   double a = s.body;
   a = mix(a, 0.08, smooth_box(v, -1.0, 0.4, kEdge));  // bumper
@@ -154,7 +156,7 @@ double car_end_albedo(const CarStyle& s, double u, double v, bool front) {
   return clamp01(a);
 }
 
-double car_roof_albedo(const CarStyle& s, double u, double v) {
+LOOPSCAN_SIM_CLONES double car_roof_albedo(const CarStyle& s, double u, double v) {
   return clamp01(s.body * 1.05 + 0.03 * (value_noise2(2.0 * u, 2.0 * v, s.salt + 5) - 0.5));
 }
 

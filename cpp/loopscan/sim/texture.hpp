@@ -12,15 +12,20 @@ struct TextureSample {
 };
 
 // Central differences with a 1 cm step: edges are smoothed over a few cm, so this resolves them.
+// Without `gradient` only the albedo is evaluated (the renderer needs no gradient: 5x cheaper).
 template <class F>
-TextureSample sample_surface(const F& f, double u, double v, double h = 0.01) {
+TextureSample sample_surface(const F& f, double u, double v, bool gradient = true,
+                             double h = 0.01) {
+  if (!gradient) return {f(u, v), 0.0};
   const double du = (f(u + h, v) - f(u - h, v)) / (2.0 * h);
   const double dv = (f(u, v + h) - f(u, v - h)) / (2.0 * h);
   return {f(u, v), std::sqrt(du * du + dv * dv)};
 }
 
 template <class F>
-TextureSample sample_volume(const F& f, double x, double y, double z, double h = 0.01) {
+TextureSample sample_volume(const F& f, double x, double y, double z, bool gradient = true,
+                            double h = 0.01) {
+  if (!gradient) return {f(x, y, z), 0.0};
   const double dx = (f(x + h, y, z) - f(x - h, y, z)) / (2.0 * h);
   const double dy = (f(x, y + h, z) - f(x, y - h, z)) / (2.0 * h);
   const double dz = (f(x, y, z + h) - f(x, y, z - h)) / (2.0 * h);

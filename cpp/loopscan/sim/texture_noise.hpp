@@ -4,6 +4,15 @@
 #include <cmath>
 #include <cstdint>
 
+// The renderer's hot functions are also compiled for SSE4.2 and picked when the CPU has it (the
+// build targets the x86-64 baseline): floor() becomes one instruction, ~20 % of a render. The
+// bits are the same: SSE4.2 has no FMA, nothing is contracted or reordered.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define LOOPSCAN_SIM_CLONES __attribute__((target_clones("sse4.2", "default")))
+#else
+#define LOOPSCAN_SIM_CLONES
+#endif
+
 namespace loopscan::sim {
 
 inline std::uint32_t mix32(std::uint32_t x) {

@@ -105,11 +105,6 @@ World World::from_primitives(const std::vector<Eigen::Vector3d>& centreline,
   return out;
 }
 
-double World::gray(const Hit& hit, const Conditions& conditions) {
-  const double x = std::clamp(conditions.illumination_gain * hit.albedo, 0.0, 1.0);
-  return 255.0 * std::pow(x, conditions.gamma);
-}
-
 std::size_t World::object_count() const {
   if (!world_) return 0;
   return world_->facades.size() + world_->posts.size() + world_->crowns.size();

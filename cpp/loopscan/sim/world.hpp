@@ -2,6 +2,8 @@
 // A deterministic synthetic street world for the stereo-VO simulator: built once from the
 // centreline of a trajectory (so revisited places are the same place), rendered by ray casting
 // under session conditions (season, light, parked cars).
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -52,8 +54,11 @@ class World {
   std::optional<Hit> raycast(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                              double max_distance, const Conditions& conditions) const;
 
-  // Gray value 0..255 of a hit under the conditions' illumination.
-  static double gray(const Hit& hit, const Conditions& conditions);
+  // Gray value 0..255 of a hit under the conditions' illumination (inline: once per pixel).
+  static double gray(const Hit& hit, const Conditions& conditions) {
+    const double x = std::clamp(conditions.illumination_gain * hit.albedo, 0.0, 1.0);
+    return 255.0 * (conditions.gamma == 1.0 ? x : std::pow(x, conditions.gamma));
+  }
 
   // Static primitives (facades, trunks, crowns, poles); parked cars depend on the session.
   std::size_t object_count() const;
@@ -61,6 +66,7 @@ class World {
   nlohmann::json parameters() const;
 
  private:
+  friend struct WorldAccess;  // the renderer's visibility pass
   struct CarCache;
   std::shared_ptr<const StaticWorld> world_;
   std::shared_ptr<CarCache> cars_;  // per-session parked cars, drawn on first use

@@ -29,6 +29,25 @@ class ObjectGrid {
   void traverse(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double& t_best,
                 Visit&& visit) const;
 
+  // Calls visit(code) for the objects of every cell overlapping the rectangle [min, max] in
+  // (x, z): an object once per such cell it lies in.
+  template <class Visit>
+  void visit_rect(double min_x, double min_z, double max_x, double max_z, Visit&& visit) const {
+    if (nx_ == 0 || nz_ == 0) return;
+    const auto cell = [&](double a, double base, int n) {
+      return static_cast<int>(std::clamp(std::floor((a - base) / cell_), -1.0, double(n)));
+    };
+    const int i0 = std::max(cell(min_x, min_x_, nx_), 0),
+              i1 = std::min(cell(max_x, min_x_, nx_), nx_ - 1);
+    const int j0 = std::max(cell(min_z, min_z_, nz_), 0),
+              j1 = std::min(cell(max_z, min_z_, nz_), nz_ - 1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
+        for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) visit(items_[k]);
+      }
+  }
+
   int nx() const { return nx_; }
   int nz() const { return nz_; }
   double cell() const { return cell_; }

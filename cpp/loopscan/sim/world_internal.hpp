@@ -24,13 +24,72 @@ struct World::CarCache {
 bool foliage_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t0, double t1,
                  double voxel, double density, std::uint32_t salt, double& t_hit);
 
-// Surface, albedo (season applied) and texture gradient of each kind of hit.
-Hit shade_ground(const StaticWorld& w, const Eigen::Vector3d& p, double t, const Conditions& c);
-Hit shade_facade(const StaticWorld& w, const FacadeObject& f, int face, const Eigen::Vector3d& p,
-                 double t, const Conditions& c);
-Hit shade_post(const PostObject& post, bool cap, const Eigen::Vector3d& p, double t);
-Hit shade_crown(const StaticWorld& w, const CrownObject& crown, const Eigen::Vector3d& p, double t,
-                const Conditions& c);
-Hit shade_car(const ParkedCar& car, int id, int face, const Eigen::Vector3d& p, double t);
+// Renderer access to the world's internals (World befriends it).
+struct WorldAccess {
+  static const StaticWorld* world(const World& w) { return w.world_.get(); }
+  static std::shared_ptr<const std::vector<ParkedCar>> cars(const World& w, unsigned session_seed) {
+    return w.cars_->get(*w.world_, session_seed);
+  }
+};
+
+// Ray parameter of the ground hit, or a negative value if the ray does not reach the ground.
+double ground_t(const StaticWorld& w, const Eigen::Vector3d& o, const Eigen::Vector3d& d);
+
+// What a ray met, before shading: the ground or the nearest object (by its grid code).
+struct HitRef {
+  std::uint32_t code = 0;
+  int face = 0;
+  bool cap = false;
+  bool ground = false;
+  bool found = false;
+};
+
+// Lowers t_best to the ray's first crossing with object `code` if nearer and records it in best.
+// cars() gives this session's parked cars; it is called only when a car slot is met.
+template <class Cars>
+inline void test_object(const StaticWorld& w, std::uint32_t code, const Eigen::Vector3d& o,
+                        const Eigen::Vector3d& d, double density, Cars&& cars, double& t_best,
+                        HitRef& best) {
+  const std::size_t i = code_index(code);
+  double t = 0.0;
+  int face = 0;
+  bool cap = false;
+  switch (code_kind(code)) {
+    case ObjectKind::Facade:
+      if (!intersect_box(w.facades[i].box, o, d, t_best, t, face)) return;
+      break;
+    case ObjectKind::Post:
+      if (!intersect_cylinder(w.posts[i].cylinder, o, d, t_best, t, cap)) return;
+      break;
+    case ObjectKind::Crown: {
+      double t0, t1;
+      if (!intersect_ellipsoid(w.crowns[i].ellipsoid, o, d, t0, t1) || t0 >= t_best) return;
+      if (!foliage_hit(o, d, t0, std::min(t1, t_best), w.config.foliage_voxel_m, density,
+                       w.foliage_salt, t))
+        return;
+      break;
+    }
+    case ObjectKind::CarSlot: {
+      const ParkedCar& car = cars()[i];
+      if (!car.present || !intersect_box(car.box, o, d, t_best, t, face)) return;
+      break;
+    }
+  }
+  if (t >= t_best) return;
+  t_best = t;
+  best = HitRef{code, face, cap, false, true};
+}
+
+// Road, sidewalk or ground at a ground point, by its horizontal distance to the centreline.
+Surface ground_surface(const StaticWorld& w, double centreline_distance);
+// A ground hit of a known surface class (what shade_hit does for ground hits after the query).
+Hit shade_ground_as(const StaticWorld& w, Surface s, const Eigen::Vector3d& p, double t,
+                    const Conditions& c, bool gradient);
+
+// Surface, albedo (season applied) and, if `gradient`, texture gradient of a found hit at
+// distance t; cars: this session's parked cars (needed for car hits only).
+Hit shade_hit(const StaticWorld& w, const HitRef& ref, const Eigen::Vector3d& o,
+              const Eigen::Vector3d& d, double t, const std::vector<ParkedCar>* cars,
+              const Conditions& c, bool gradient);
 
 }  // namespace loopscan::sim

@@ -11,6 +11,8 @@ namespace {
 
 constexpr std::size_t kMaxSessions = 8;
 
+}  // namespace
+
 // Ray parameter of the ground hit, or a negative value if the ray does not reach the ground.
 double ground_t(const StaticWorld& w, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
   if (w.centreline.empty() || d.y() <= 1e-12) return -1.0;
@@ -30,17 +32,6 @@ double ground_t(const StaticWorld& w, const Eigen::Vector3d& o, const Eigen::Vec
   }
   return t;
 }
-
-struct Best {
-  ObjectKind kind = ObjectKind::Facade;
-  std::size_t index = 0;
-  int face = 0;
-  bool cap = false;
-  bool ground = false;
-  bool found = false;
-};
-
-}  // namespace
 
 World::CarCache::Cars World::CarCache::get(const StaticWorld& world, unsigned session_seed) {
   std::lock_guard<std::mutex> lock(mutex);
@@ -95,7 +86,7 @@ std::optional<Hit> World::raycast(const Eigen::Vector3d& origin, const Eigen::Ve
     return std::nullopt;
   const StaticWorld& w = *world_;
   double t_best = max_distance;
-  Best best;
+  HitRef best;
   const double tg = ground_t(w, origin, direction);
   if (tg >= 0.0 && tg < t_best) {
     t_best = tg;
@@ -103,52 +94,15 @@ std::optional<Hit> World::raycast(const Eigen::Vector3d& origin, const Eigen::Ve
   }
   const double density = foliage_density(conditions.season);
   CarCache::Cars cars;  // fetched on the first car slot the ray meets
+  const auto get_cars = [&]() -> const std::vector<ParkedCar>& {
+    if (!cars) cars = cars_->get(w, conditions.session_seed);
+    return *cars;
+  };
   w.grid.traverse(origin, direction, t_best, [&](std::uint32_t code) {
-    const std::size_t i = code_index(code);
-    double t = 0.0;
-    int face = 0;
-    bool cap = false;
-    switch (code_kind(code)) {
-      case ObjectKind::Facade:
-        if (!intersect_box(w.facades[i].box, origin, direction, t_best, t, face)) return;
-        break;
-      case ObjectKind::Post:
-        if (!intersect_cylinder(w.posts[i].cylinder, origin, direction, t_best, t, cap)) return;
-        break;
-      case ObjectKind::Crown: {
-        double t0, t1;
-        if (!intersect_ellipsoid(w.crowns[i].ellipsoid, origin, direction, t0, t1) || t0 >= t_best)
-          return;
-        if (!foliage_hit(origin, direction, t0, std::min(t1, t_best), w.config.foliage_voxel_m,
-                         density, w.foliage_salt, t))
-          return;
-        break;
-      }
-      case ObjectKind::CarSlot: {
-        if (!cars) cars = cars_->get(w, conditions.session_seed);
-        const ParkedCar& car = (*cars)[i];
-        if (!car.present || !intersect_box(car.box, origin, direction, t_best, t, face)) return;
-        break;
-      }
-    }
-    if (t >= t_best) return;
-    t_best = t;
-    best = Best{code_kind(code), i, face, cap, false, true};
+    test_object(w, code, origin, direction, density, get_cars, t_best, best);
   });
   if (!best.found) return std::nullopt;
-  const Eigen::Vector3d p = origin + t_best * direction;
-  if (best.ground) return shade_ground(w, p, t_best, conditions);
-  switch (best.kind) {
-    case ObjectKind::Facade:
-      return shade_facade(w, w.facades[best.index], best.face, p, t_best, conditions);
-    case ObjectKind::Post:
-      return shade_post(w.posts[best.index], best.cap, p, t_best);
-    case ObjectKind::Crown:
-      return shade_crown(w, w.crowns[best.index], p, t_best, conditions);
-    case ObjectKind::CarSlot:
-      return shade_car((*cars)[best.index], w.slots[best.index].id, best.face, p, t_best);
-  }
-  return std::nullopt;
+  return shade_hit(w, best, origin, direction, t_best, cars.get(), conditions, true);
 }
 
 }  // namespace loopscan::sim

@@ -80,6 +80,12 @@ class AngleBinner {
     }
   }
 
+  // For vectorised callers (scan_context_bins): the same tables and symmetries.
+  bool usable() const { return usable_; }
+  int quadrant_bins() const { return quadrant_bins_; }
+  int offset_bins() const { return offset_bins_; }
+  const std::vector<double>& boundaries() const { return tan_; }  // tan, then a sentinel 2
+
   int operator()(double y, double x) const {
     if (!usable_) return angle_bin(y, x, offset_, inv_);
     const double ax = std::fabs(x), ay = std::fabs(y);

@@ -75,6 +75,16 @@ struct PolarBinner {
   }
 };
 
+// log1p of a count: counts are small integers, so a table of std::log1p (the same values).
+double log1p_count(double c) {
+  thread_local std::vector<double> table;
+  constexpr double kMaxTable = 1 << 16;
+  if (!(c >= 0 && c < kMaxTable) || c != std::floor(c)) return std::log1p(c);
+  const auto k = static_cast<std::size_t>(c);
+  while (table.size() <= k) table.push_back(std::log1p(static_cast<double>(table.size())));
+  return table[k];
+}
+
 Eigen::RowVectorXd compressed(const Eigen::MatrixXd& m, Mode mode) {
   const SingularPair pair = leading_singular_pair(m, mode);
   Eigen::RowVectorXd out(pair.u.size() + pair.v.size());
@@ -130,8 +140,21 @@ M2dpMatrices m2dp_matrices(const Cloud& aligned, const M2dpConfig& config) {
       soa.z[i] = static_cast<float>(aligned[i].p(2));
       soa.gray[i] = aligned[i].intensity;
     }
-    for (Eigen::Index k = 0; k < planes; ++k) {
-      fast.accumulate(soa, x_axes.col(k), y_axes.col(k), &count[k * bins], &gray[k * bins]);
+    if (pack_gray(soa, padded)) {  // one integer add a point counts and sums it, exactly
+      thread_local std::vector<long long> acc;
+      acc.assign(planes * bins, 0);
+      for (Eigen::Index k = 0; k < planes; ++k) {
+        fast.accumulate_packed(soa, x_axes.col(k), y_axes.col(k), &acc[k * bins]);
+      }
+      const long long low_bits = (1LL << soa.count_shift) - 1;
+      for (std::size_t i = 0; i < acc.size(); ++i) {
+        count[i] = static_cast<double>(acc[i] >> soa.count_shift);
+        gray[i] = static_cast<double>(acc[i] & low_bits) * soa.gray_unit;
+      }
+    } else {
+      for (Eigen::Index k = 0; k < planes; ++k) {
+        fast.accumulate(soa, x_axes.col(k), y_axes.col(k), &count[k * bins], &gray[k * bins]);
+      }
     }
   } else {
     const PolarBinner binner(config);
@@ -153,7 +176,7 @@ M2dpMatrices m2dp_matrices(const Cloud& aligned, const M2dpConfig& config) {
   for (Eigen::Index k = 0; k < planes; ++k) {
     for (Eigen::Index b = 0; b < bins; ++b) {
       const double c = count[k * bins + b], g = gray[k * bins + b];
-      m.count(k, b) = log_counts ? std::log1p(c) : c;
+      m.count(k, b) = log_counts ? log1p_count(c) : c;
       m.gray(k, b) = c > 0 ? (g / c > mean ? 1.0 : 0.0) : 0.0;
     }
   }

@@ -28,11 +28,14 @@ M2dpBinner::M2dpBinner(int sectors, int rings, double max_radius_m)
 namespace {
 
 // The kernel, unrolled for a fixed number of boundary rays per quadrant.
+// count_row == nullptr: the packed path, `gray_row` is then a long long row (see
+// M2dpBinner::accumulate_packed).
 template <int kRays, int W>
 LOOPSCAN_INLINE void bin_kernel(const PlanarCloud& c, const float (&axes)[6], float ring_inv,
                                 int rings, int sector_shift, const float* ray_cos,
                                 const float* ray_sin, const float* gray, double* count_row,
                                 double* gray_row) {
+  long long* packed_row = reinterpret_cast<long long*>(gray_row);
   using Vec = typename simd::Vec<float, W>::type;
   using VecI = typename simd::Vec<int, W>::type;
   constexpr int kLanes = simd::Vec<float, W>::kLanes;
@@ -59,6 +62,15 @@ LOOPSCAN_INLINE void bin_kernel(const PlanarCloud& c, const float (&axes)[6], fl
     const VecI valid = ring < rings;
     const VecI out = (valid & ((ring << sector_shift) + sector)) | ~valid;  // -1 beyond range
     // Scatter straight from the register: no round trip through a bin array.
+    if (!count_row) {
+      // Branch-free: beyond range goes to the spare slot `bins`; odd lanes add into a second
+      // copy of the row (at packed_row + bins + 1), so runs of one bin make two shorter chains.
+      const int bins = rings << sector_shift;
+      const VecI slot = (valid & ((ring << sector_shift) + sector)) | (~valid & bins);
+      for (int l = 0; l < kLanes; ++l)
+        packed_row[slot[l] + (l & 1) * (bins + 1)] += c.packed[i + l];
+      continue;
+    }
     for (int l = 0; l < kLanes; ++l) {
       const int b = out[l];
       if (b < 0) continue;
@@ -106,6 +118,40 @@ void M2dpBinner::accumulate(const PlanarCloud& c, const Eigen::Vector3d& xa,
   auto* kernel = simd::has_avx2() ? kernel_avx2 : kernel_base;
   kernel(ray_cos_.size(), c, axes, ring_inv, rings_, shift_, ray_cos_.data(), ray_sin_.data(),
          c.gray.data(), count_row, gray_row);
+}
+
+void M2dpBinner::accumulate_packed(const PlanarCloud& c, const Eigen::Vector3d& xa,
+                                   const Eigen::Vector3d& ya, long long* packed_row) const {
+  const int bins = sectors_ * rings_;
+  thread_local std::vector<long long> two_rows;
+  two_rows.assign(2 * (bins + 1), 0);
+  accumulate(c, xa, ya, nullptr, reinterpret_cast<double*>(two_rows.data()));
+  for (int b = 0; b < bins; ++b) packed_row[b] += two_rows[b] + two_rows[bins + 1 + b];
+}
+
+bool pack_gray(PlanarCloud& c, std::size_t n) {
+  // Every gray value a multiple of g = the float ulp of the smallest non-zero one; all sums
+  // exact (below 2^shift g) when n max / g < 2^shift, shift leaving the count its bits above.
+  float lo = 0.f, hi = 0.f;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float v = c.gray[i];
+    if (!(v >= 0.f) || v > 1e30f) return false;  // negative, NaN or inf: the plain path
+    if (v > 0.f && (lo == 0.f || v < lo)) lo = v;
+    hi = std::max(hi, v);
+  }
+  int shift = 62;
+  while (shift > 0 && (std::size_t{1} << (63 - shift)) <= n) --shift;  // count < 2^(63-shift)
+  int e = 0;
+  if (lo > 0.f) std::frexp(lo, &e);
+  if (lo > 0.f && lo < 1.17549435e-38f) return false;  // subnormal: keep it simple
+  c.gray_unit = lo > 0.f ? std::ldexp(1.0, e - 24) : 1.0;
+  if (static_cast<double>(n) * hi / c.gray_unit >= std::ldexp(1.0, shift)) return false;
+  c.count_shift = shift;
+  c.packed.resize(c.gray.size());
+  for (std::size_t i = 0; i < c.gray.size(); ++i) {
+    c.packed[i] = (1LL << shift) + static_cast<long long>(c.gray[i] / c.gray_unit);
+  }
+  return true;
 }
 
 }  // namespace loopscan

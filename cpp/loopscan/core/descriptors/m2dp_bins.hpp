@@ -13,7 +13,17 @@ namespace loopscan {
 struct PlanarCloud {  // structure of arrays, padded to whole SIMD vectors
   std::vector<float> x, y, z, gray;
   std::size_t size = 0;
+  // pack_gray: per point (1 << count_shift) + gray / gray_unit, an exact integer.
+  std::vector<long long> packed;
+  double gray_unit = 1.0;
+  int count_shift = 0;
 };
+
+// When every gray sum of the cloud's first n points is exact in double whatever the order (all
+// values multiples of one power of two, sums far below 2^53 of it), fills `packed` and returns
+// true: one integer add a point then counts and sums it, and the sums equal the ordered double
+// sums bit for bit. False (negative, huge or subnormal values): use accumulate().
+bool pack_gray(PlanarCloud& cloud, std::size_t n);
 
 class M2dpBinner {
  public:
@@ -23,6 +33,9 @@ class M2dpBinner {
   // count_row[bin] += 1 and gray_row[bin] += gray for every point projected on the plane.
   void accumulate(const PlanarCloud& cloud, const Eigen::Vector3d& x_axis,
                   const Eigen::Vector3d& y_axis, double* count_row, double* gray_row) const;
+  // packed_row[bin] += cloud.packed[i] (pack_gray) for every point: count and gray sum at once.
+  void accumulate_packed(const PlanarCloud& cloud, const Eigen::Vector3d& x_axis,
+                         const Eigen::Vector3d& y_axis, long long* packed_row) const;
 
  private:
   int sectors_, rings_;

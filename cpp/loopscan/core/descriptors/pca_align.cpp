@@ -90,14 +90,31 @@ Eigen::Matrix3d camera_axes() {
 
 Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Eigen::Matrix3d* to_aligned,
                  double lateral_offset_m) {
+  Cloud out;
+  align_scan(cloud, frame, mode, out, to_aligned, lateral_offset_m);
+  return out;
+}
+
+void align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Cloud& out,
+                Eigen::Matrix3d* to_aligned, double lateral_offset_m) {
   if (mode == Mode::Reference || frame == DescriptorFrame::Pca) {
-    return pca_align(cloud, mode, to_aligned);
+    out = pca_align(cloud, mode, to_aligned);
+    return;
   }
+  Eigen::Vector3d centre;
+  const Eigen::Matrix3d axes = scan_axes(cloud, frame, &centre, lateral_offset_m);
+  if (to_aligned) *to_aligned = axes;
+  out.resize(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    out[i] = {axes * (cloud[i].p - centre), cloud[i].intensity};
+  }
+}
+
+Eigen::Matrix3d scan_axes(const Cloud& cloud, DescriptorFrame frame, Eigen::Vector3d* centre_out,
+                          double lateral_offset_m) {
   Eigen::Matrix3d axes = camera_axes();
-  if (cloud.empty()) {
-    if (to_aligned) *to_aligned = axes;
-    return {};
-  }
+  *centre_out = Eigen::Vector3d::Zero();
+  if (cloud.empty()) return axes;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   for (const PointI& q : cloud) centroid += q.p;
   centroid /= static_cast<double>(cloud.size());
@@ -134,12 +151,8 @@ Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Eigen::Ma
     axes.row(2) << v.x(), 0, v.y();
     if (axes.determinant() < 0) axes.row(1) = -axes.row(1);
   }
-  if (to_aligned) *to_aligned = axes;
-  Cloud out(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    out[i] = {axes * (cloud[i].p - centre), cloud[i].intensity};
-  }
-  return out;
+  *centre_out = centre;
+  return axes;
 }
 
 }  // namespace loopscan

@@ -19,5 +19,14 @@ Cloud pca_align(const Cloud& cloud, Mode mode, Eigen::Matrix3d* to_aligned = nul
 // that far along the camera's x axis (right): where a car in the next lane would be.
 Cloud align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode,
                  Eigen::Matrix3d* to_aligned = nullptr, double lateral_offset_m = 0.0);
+// The same into `out`, whose memory is reused (a scan's copy is ~170 KB: a fresh one costs
+// page faults every call).
+void align_scan(const Cloud& cloud, DescriptorFrame frame, Mode mode, Cloud& out,
+                Eigen::Matrix3d* to_aligned = nullptr, double lateral_offset_m = 0.0);
+
+// Default mode, frames other than Pca: the aligned axes (rows) and the centre, so that a point
+// aligned is axes * (p - centre), as align_scan computes it. Throws like align_scan.
+Eigen::Matrix3d scan_axes(const Cloud& cloud, DescriptorFrame frame, Eigen::Vector3d* centre,
+                          double lateral_offset_m = 0.0);
 
 }  // namespace loopscan

@@ -6,6 +6,7 @@
 #include "loopscan/core/descriptors/fast_angle.hpp"
 #include "loopscan/core/descriptors/gray_mean.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
+#include "loopscan/core/descriptors/scan_context_bins.hpp"
 
 namespace loopscan {
 
@@ -63,20 +64,50 @@ ScanContext scan_context_of_aligned(const Cloud& aligned, const ScanContextConfi
                      cloud_gray_mean(aligned, config.mode));
 }
 
+namespace {
+
+// Centres of the place and its lateral versions in the aligned plane (axes 1, 2).
+std::vector<Eigen::Vector2d> version_centres(const ScanContextConfig& config,
+                                             const Eigen::Matrix3d& axes) {
+  std::vector<Eigen::Vector2d> centres;
+  for (std::size_t v = 0; v <= config.lateral_versions_m.size(); ++v) {
+    const double offset = v > 0 ? config.lateral_versions_m[v - 1] : 0.0;
+    const Eigen::Vector3d side = axes * Eigen::Vector3d(offset, 0, 0);  // camera x: right
+    centres.push_back(side.tail<2>());
+  }
+  return centres;
+}
+
+}  // namespace
+
 Signature scan_context_signature(const Cloud& scan, const ScanContextConfig& config,
                                  Eigen::Matrix3d* frame) {
   validate(config);
+  const Eigen::Index versions = 1 + static_cast<Eigen::Index>(config.lateral_versions_m.size());
+  Signature rows(versions, 2 * config.rings * config.sectors);
+  const bool fast = scan_context_rows_usable(config);
+  if (fast &&
+      (config.frame == DescriptorFrame::Camera || config.frame == DescriptorFrame::Centroid)) {
+    // Axes of 0 and +-1: the points are aligned on the fly, exactly as align_scan would.
+    AlignFrame f;
+    f.axes = scan_axes(scan, config.frame, &f.centre, config.lateral_offset_m);
+    if (frame) *frame = f.axes;
+    scan_context_rows(scan, f, config, version_centres(config, f.axes), rows);
+    return rows;
+  }
   // Aligned once; a lateral version bins the same points around a centre moved to its side.
   Eigen::Matrix3d axes;
-  const Cloud aligned = align_scan(scan, config.frame, config.mode, &axes, config.lateral_offset_m);
+  thread_local Cloud aligned;
+  align_scan(scan, config.frame, config.mode, aligned, &axes, config.lateral_offset_m);
   if (frame) *frame = axes;
   const double mean = cloud_gray_mean(aligned, config.mode);
-  const int versions = 1 + static_cast<int>(config.lateral_versions_m.size());
-  Signature rows(versions, 2 * config.rings * config.sectors);
-  for (int v = 0; v < versions; ++v) {
-    const double offset = v > 0 ? config.lateral_versions_m[v - 1] : 0.0;
-    const Eigen::Vector3d side = axes * Eigen::Vector3d(offset, 0, 0);  // camera x: right
-    const ScanContext sc = bin_aligned(aligned, config, side.tail<2>(), mean);
+  const std::vector<Eigen::Vector2d> centres = version_centres(config, axes);
+  if (fast) {  // every version from one pass over the points
+    scan_context_rows(aligned, config, centres, mean, rows);
+    return rows;
+  }
+  for (Eigen::Index v = 0; v < versions; ++v) {
+    const ScanContext sc = bin_aligned(aligned, config, centres[v], mean);
     rows.row(v) << sc.structure.transpose(), sc.intensity.transpose();
   }
   return rows;

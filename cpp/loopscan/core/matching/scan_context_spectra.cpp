@@ -116,6 +116,42 @@ LOOPSCAN_INLINE float best_of_inverse(const float* re, const float* im, int K, c
   return m;
 }
 
+// Both spectra (correlation c, convolution v) in one pass: eight chains of multiply-adds
+// instead of four (a 64-byte W has only two vectors of m), each lane summing in the same order.
+template <int W, int MV>
+LOOPSCAN_INLINE float best_of_inverse_pair(const float* cre, const float* cim, const float* vre,
+                                           const float* vim, int K, const float* ic,
+                                           const float* is, int M) {
+  using V = typename simd::Vec<float, W>::type;
+  constexpr int kV = simd::Vec<float, W>::kLanes, kMP = MV * kV;
+  V A[MV], B[MV], C[MV], D[MV];
+  for (int v = 0; v < MV; ++v) A[v] = B[v] = C[v] = D[v] = V{};
+  for (int k = 0; k < K; ++k) {
+    const float a = cre[k], b = cim[k], c = vre[k], d = vim[k];
+    for (int v = 0; v < MV; ++v) {
+      const V icv = simd::load<V>(ic + k * kMP + v * kV),
+              isv = simd::load<V>(is + k * kMP + v * kV);
+      A[v] += a * icv;
+      B[v] += b * isv;
+      C[v] += c * icv;
+      D[v] += d * isv;
+    }
+  }
+  V best = V{} - 1e30f;
+  for (int v = 0; v < MV; ++v) {
+    V x = A[v] + (B[v] < 0 ? -B[v] : B[v]);
+    V y = C[v] + (D[v] < 0 ? -D[v] : D[v]);
+    x = x > y ? x : y;
+    for (int l = 0; l < kV; ++l) {
+      if (v * kV + l >= M) x[l] = -1e30f;  // padding lanes
+    }
+    best = best > x ? best : x;
+  }
+  float m = best[0];
+  for (int l = 1; l < kV; ++l) m = m > best[l] ? m : best[l];
+  return m;
+}
+
 float best_of_inverse_scalar(const float* re, const float* im, int K, const float* ic,
                              const float* is, int M, int mp) {
   float best = -2.f;
@@ -136,25 +172,30 @@ struct KernelArgs {
   const float* inv_sin;
 };
 
+// W: the inverse DFT's vector width; the ring sums stay at most 32 bytes wide, so a wider
+// instantiation sums in the same order and gives the same bits (its lanes are independent).
 template <int W>
 LOOPSCAN_INLINE void best_dots_impl(const KernelArgs& k, const float* q, const float* qs,
                                     const float* p, float best[2]) {
   const int S = k.sectors, R = k.rings, H = S / 2, K = H + 1;
   const bool fast = S == kFastSectors;
   constexpr int kMV = 32 / simd::Vec<float, W>::kLanes;  // 32 padded m for S = 60
+  constexpr int kSumW = W < 32 ? W : 32;
   float a1[kMaxSectors], a2[kMaxSectors];
   float cre[kMaxSectors / 2 + 1], cim[kMaxSectors / 2 + 1];
   float vre[kMaxSectors / 2 + 1], vim[kMaxSectors / 2 + 1];
   for (int c = 0; c < 2; ++c) {
     const std::size_t off = static_cast<std::size_t>(c) * R * S;
     if (fast) {
-      ring_sums_60<W>(q + off, qs + off, p + off, R, a1, a2);
+      ring_sums_60<kSumW>(q + off, qs + off, p + off, R, a1, a2);
     } else {
       ring_sums_scalar(q + off, p + off, R, S, a1);
       ring_sums_scalar(qs + off, p + off, R, S, a2);
     }
     cross_spectra(a1, a2, S, cre, cim, vre, vim);
-    if (fast) {
+    if (fast && W == 64) {
+      best[c] = best_of_inverse_pair<W, kMV>(cre, cim, vre, vim, K, k.inv_cos, k.inv_sin, K);
+    } else if (fast) {
       best[c] = std::max(best_of_inverse<W, kMV>(cre, cim, K, k.inv_cos, k.inv_sin, K),
                          best_of_inverse<W, kMV>(vre, vim, K, k.inv_cos, k.inv_sin, K));
     } else {
@@ -172,6 +213,11 @@ void best_dots_base(const KernelArgs& k, const float* q, const float* qs, const 
 LOOPSCAN_AVX2 void best_dots_avx2(const KernelArgs& k, const float* q, const float* qs,
                                   const float* p, float best[2]) {
   best_dots_impl<32>(k, q, qs, p, best);
+}
+
+LOOPSCAN_AVX512 void best_dots_avx512(const KernelArgs& k, const float* q, const float* qs,
+                                      const float* p, float best[2]) {
+  best_dots_impl<64>(k, q, qs, p, best);
 }
 
 }  // namespace
@@ -266,7 +312,9 @@ void ScanContextSpectra::prepare_packed(const float* packed, Query& out) const {
 }
 
 void ScanContextSpectra::best_dots(const Query& query, const float* place, float best[2]) const {
-  static const auto kernel = simd::has_avx2() ? best_dots_avx2 : best_dots_base;
+  static const auto kernel = simd::has_avx512() ? best_dots_avx512
+                             : simd::has_avx2() ? best_dots_avx2
+                                                : best_dots_base;
   const KernelArgs args{rings_, sectors_, m_padded_, inv_cos_.data(), inv_sin_.data()};
   kernel(args, query.packed.data(), query.swapped.data(), place, best);
 }

@@ -39,7 +39,7 @@ struct KeyArgs {
   int azimuth_bins;
   int outside_key;  // max_key + 1: no cell
   std::uint32_t* keys;
-  double* scores;
+  float* scores;        // every score is a float value (the float coordinates' arithmetic)
   std::uint8_t* check;  // polar: 1 where a value is too close to a boundary for the float path
   std::size_t n_vec;    // the kernels cover [0, n_vec), a multiple of 8
 };
@@ -119,7 +119,7 @@ Cloud filter_camera_points(const CameraPoints& p, ScanFilter filter, const Imita
   validate(c);
   const std::size_t n = p.size();
   thread_local std::vector<std::uint32_t> keys;
-  thread_local std::vector<double> scores;
+  thread_local std::vector<float> scores;
   thread_local std::vector<std::uint8_t> check;
   thread_local std::vector<int> kept;
   keys.resize(n);

@@ -1,0 +1,260 @@
+#include "loopscan/core/descriptors/scan_context_bins.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "loopscan/core/descriptors/fast_angle.hpp"
+#include "loopscan/core/simd.hpp"
+
+namespace loopscan {
+namespace {
+
+constexpr int kMaxSectors = 128;
+constexpr int kOut = -1, kFix = -2;  // bins: beyond the last ring; for the exact path
+
+struct BinArgs {
+  const double *x, *z;  // aligned axes 1 and 2, padded to whole vectors
+  std::size_t n_vec;
+  const Eigen::Vector2d* centres;
+  int n_centres, rings, sectors, last;  // last: boundaries tan[1..last] below 45 degrees
+  double ring_inv;
+  double q1, q2, offset;  // q1 = Q - 1, q2 = 2Q - 1 (Q sectors a quadrant), offset bins
+  const double* tan;
+  const AngleBinner* binner;
+  int* bins;  // n_centres x n_vec: bin, kOut or kFix
+};
+
+// Products and sums are kept apart (-ffp-contract=off for this file) so that
+// sqrt(a1 * a1 + a2 * a2) rounds exactly as the scalar loop's. Integers (boundaries passed,
+// sectors, bins) stay in double lanes, exact, up to one conversion. kLast > 0: that many
+// boundaries, unrolled; 0: a.last of them.
+template <int W, int kLast>
+LOOPSCAN_INLINE void bin_points(const BinArgs& a) {
+  using V = typename simd::Vec<double, W>::type;
+  using VI = typename simd::Vec<int, W / 2>::type;
+  constexpr int kV = simd::Vec<double, W>::kLanes;
+  const int last = kLast > 0 ? kLast : a.last;
+  // A lane is near a boundary b when lo < t < hi, lo/hi = b -/+ 2e-12: a superset of the
+  // lanes AngleBinner sends to std::atan2 (|t - b| < 1e-12), which take its own path here.
+  double lo[kMaxSectors], hi[kMaxSectors];
+  for (int j = 0; j <= last; ++j) {
+    lo[j] = a.tan[j] - 2e-12;
+    hi[j] = a.tan[j] + 2e-12;
+  }
+  const V zero{}, one = zero + 1.0;
+  const double rings = a.rings;
+  for (std::size_t i = 0; i < a.n_vec; i += kV) {
+    const V x = simd::load<V>(a.x + i), z = simd::load<V>(a.z + i);
+    for (int c = 0; c < a.n_centres; ++c) {
+      const V a1 = x - a.centres[c].x(), a2 = z - a.centres[c].y();
+      const V d2 = a1 * a1 + a2 * a2;
+      V r, ring;
+      for (int l = 0; l < kV; ++l) r[l] = __builtin_sqrt(d2[l]);
+      r *= a.ring_inv;
+      // floor (r >= 0) through int32 and back: converts, where trunc() would stay scalar.
+      ring = __builtin_convertvector(__builtin_convertvector(r < rings ? r : zero, VI), V);
+      // AngleBinner's symmetries: t = tan of the angle to the nearer axis, k = boundaries passed
+      // (k_lo differs from k only next to a boundary).
+      const V ax = a1 < 0 ? -a1 : a1, ay = a2 < 0 ? -a2 : a2;
+      const V mx = ay > ax ? ay : ax, mn = ay > ax ? ax : ay;
+      const V t = mn / mx;
+      V k_lo = t > lo[0] ? one : zero, k = t >= hi[0] ? one : zero;
+      for (int j = 1; j <= last; ++j) {
+        k_lo += t > lo[j] ? one : zero;
+        k += t >= hi[j] ? one : zero;
+      }
+      k -= 1.0;  // boundary 0 (t = 0) is passed by every lane off the axes
+      const V kb = ay > ax ? a.q1 - k : k;
+      const V upper = a1 >= 0 ? kb : a.q2 - kb;
+      const V sector = (a2 >= 0 ? upper : -1.0 - upper) + a.offset;
+      // On an axis or next to a boundary: kFix, left to AngleBinner itself (its exact path).
+      // k_lo - k is 1 off the boundaries (mask logic is left out: compilers scalarise it).
+      const V flag = (k_lo - k) + (mn > 0 ? zero : one);
+      const V fix_or_bin = flag > 1.5 ? zero + kFix : sector * rings + ring;
+      const V bin = r < rings ? fix_or_bin : zero + kOut;
+      simd::store(a.bins + c * a.n_vec + i, __builtin_convertvector(bin, VI));
+    }
+  }
+}
+
+template <int W>
+LOOPSCAN_INLINE void bin_dispatch(const BinArgs& a) {
+  if (a.last == 7) return bin_points<W, 7>(a);  // 60 sectors
+  bin_points<W, 0>(a);
+}
+
+void bins_base(const BinArgs& a) { bin_dispatch<16>(a); }
+LOOPSCAN_AVX2 void bins_avx2(const BinArgs& a) { bin_dispatch<32>(a); }
+LOOPSCAN_AVX512 void bins_avx512(const BinArgs& a) { bin_dispatch<64>(a); }
+
+using Pair = simd::Vec<double, 16>::type;
+
+// (-low, high) and (gray sum, count): one max and one add a point.
+struct Cell {
+  Pair neg_low_high, gray_count;
+};
+
+// Every centre's bins in point order (the gray sums' order), with bin_aligned's updates: max
+// keeps its second operand on ties as std::min(low, v) and std::max(high, v) keep theirs; the
+// centres' chains of updates are independent, so they overlap.
+void accumulate(const BinArgs& a, const double* h, const float* g, std::size_t n, int nb,
+                Cell* cells) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const Pair v{-h[i], h[i]}, add{double(g[i]), 1.0};
+    for (int c = 0; c < a.n_centres; ++c) {
+      int b = a.bins[c * a.n_vec + i];
+      if (b < 0) {
+        if (b == kOut) continue;
+        // The kernel's doubles, recomputed; the sector from AngleBinner as bin_aligned does.
+        const double a1 = a.x[i] - a.centres[c].x(), a2 = a.z[i] - a.centres[c].y();
+        const int ring = static_cast<int>(std::sqrt(a1 * a1 + a2 * a2) * a.ring_inv);
+        b = ((*a.binner)(a2, a1) % a.sectors) * a.rings + ring;
+      }
+      Cell& e = cells[c * nb + b];
+      e.neg_low_high = v > e.neg_low_high ? v : e.neg_low_high;
+      e.gray_count += add;
+    }
+  }
+}
+
+// One cell's structure and intensity values (empty cells: 0), scalar.
+LOOPSCAN_INLINE void finalise_cell(const Cell& e, bool max_height, double sensor, double mean,
+                                   double* structure, double* intensity) {
+  const double low = -e.neg_low_high[0], high = e.neg_low_high[1];
+  const double gray = e.gray_count[0], count = e.gray_count[1];
+  const double s = max_height ? std::max(0.0, high + sensor) : high - low;
+  *structure = count > 0 ? s : 0.0;
+  *intensity = count > 0 && gray / count > mean ? 1.0 : 0.0;
+}
+
+// Four cells at a time (a 4 x 4 transpose, then selects and one vector division): which cells
+// are occupied is as unpredictable as the scene, and a scalar division a cell is slow.
+LOOPSCAN_INLINE void finalise_cells(const Cell* cells, int nb, bool max_height, double sensor,
+                                    double mean, double* row) {
+  using V = simd::Vec<double, 32>::type;
+  using M = simd::Vec<long long, 32>::type;
+  const V zero{}, one = zero + 1.0;
+  int b = 0;
+  for (; b + 4 <= nb; b += 4) {
+    const V c0 = simd::load<V>(&cells[b]), c1 = simd::load<V>(&cells[b + 1]);
+    const V c2 = simd::load<V>(&cells[b + 2]), c3 = simd::load<V>(&cells[b + 3]);
+    const V t0 = __builtin_shuffle(c0, c1, M{0, 4, 2, 6}),
+            t1 = __builtin_shuffle(c0, c1, M{1, 5, 3, 7});
+    const V t2 = __builtin_shuffle(c2, c3, M{0, 4, 2, 6}),
+            t3 = __builtin_shuffle(c2, c3, M{1, 5, 3, 7});
+    const V low = -__builtin_shuffle(t0, t2, M{0, 1, 4, 5});
+    const V gray = __builtin_shuffle(t0, t2, M{2, 3, 6, 7});
+    const V high = __builtin_shuffle(t1, t3, M{0, 1, 4, 5});
+    const V count = __builtin_shuffle(t1, t3, M{2, 3, 6, 7});
+    V s = high - low;
+    if (max_height) {
+      s = high + sensor;
+      s = s > 0.0 ? s : zero;  // std::max(0.0, s): 0 for NaN-free s <= 0
+    }
+    simd::store(row + b, count > 0 ? s : zero);
+    simd::store(row + nb + b, (count > 0) & (gray / count > mean) ? one : zero);
+  }
+  for (; b < nb; ++b) finalise_cell(cells[b], max_height, sensor, mean, row + b, row + nb + b);
+}
+
+void finalise_base(const Cell* c, int nb, bool mh, double s, double mean, double* row) {
+  finalise_cells(c, nb, mh, s, mean, row);
+}
+LOOPSCAN_AVX2 void finalise_avx2(const Cell* c, int nb, bool mh, double s, double mean,
+                                 double* row) {
+  finalise_cells(c, nb, mh, s, mean, row);
+}
+
+}  // namespace
+
+bool scan_context_rows_usable(const ScanContextConfig& c) {
+  return c.mode == Mode::Default && c.sectors % 4 == 0 && c.sectors <= kMaxSectors && c.rings > 0 &&
+         static_cast<long>(c.rings) * c.sectors < (1L << 30);
+}
+
+namespace {
+
+// `frame` null: `points` are aligned and `mean` given; else they are aligned here, as
+// align_scan does (axes * (p - centre)), and the gray mean summed in the same pass.
+void rows_impl(const Cloud& points, const AlignFrame* frame, const ScanContextConfig& config,
+               const std::vector<Eigen::Vector2d>& centres, double mean, Eigen::MatrixXd& out) {
+  const Cloud& aligned = points;
+  const int rings = config.rings, sectors = config.sectors, nb = rings * sectors;
+  const AngleBinner binner(sectors / (2.0 * M_PI), M_PI);
+  constexpr int kPad = 8;  // the widest kernel's lanes
+  const std::size_t n = aligned.size(), n_vec = (n + kPad - 1) / kPad * kPad;
+  thread_local std::vector<double> x, z, h;
+  thread_local std::vector<float> g;
+  thread_local std::vector<int> bins;
+  x.assign(n_vec, 1e30);  // padding lands beyond the last ring
+  z.assign(n_vec, 0.0);
+  h.resize(n);
+  g.resize(n);
+  if (frame) {
+    double sum = 0.0;  // cloud_gray_mean's sum, in the same order
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d p = frame->axes * (points[i].p - frame->centre);
+      x[i] = p(1);
+      z[i] = p(2);
+      h[i] = p(0);
+      g[i] = points[i].intensity;
+      sum += points[i].intensity;
+    }
+    mean = n > 0 ? sum / static_cast<double>(n) : 0.0;
+  } else {
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] = aligned[i].p(1);
+      z[i] = aligned[i].p(2);
+      h[i] = aligned[i].p(0);
+      g[i] = aligned[i].intensity;
+    }
+  }
+  bins.resize(centres.size() * n_vec);
+  const std::vector<double>& tan = binner.boundaries();
+  BinArgs a{x.data(),
+            z.data(),
+            n_vec,
+            centres.data(),
+            static_cast<int>(centres.size()),
+            rings,
+            sectors,
+            static_cast<int>(tan.size()) - 2,
+            rings / config.max_radius_m,
+            binner.quadrant_bins() - 1.0,
+            2.0 * binner.quadrant_bins() - 1.0,
+            static_cast<double>(binner.offset_bins()),
+            tan.data(),
+            &binner,
+            bins.data()};
+  (simd::has_avx512() ? bins_avx512 : simd::has_avx2() ? bins_avx2 : bins_base)(a);
+
+  thread_local std::vector<Cell> cells;
+  const double inf = std::numeric_limits<double>::infinity();
+  cells.assign(centres.size() * nb, Cell{Pair{-inf, -inf}, Pair{0.0, 0.0}});
+  accumulate(a, h.data(), g.data(), n, nb, cells.data());
+  thread_local std::vector<double> row;
+  row.resize(2 * nb);
+  out.resize(static_cast<Eigen::Index>(centres.size()), 2 * nb);
+  const double sensor = config.max_height ? config.sensor_height_m : 0.0;
+  auto* finalise = simd::has_avx2() ? finalise_avx2 : finalise_base;
+  for (std::size_t c = 0; c < centres.size(); ++c) {
+    finalise(&cells[c * nb], nb, config.max_height, sensor, mean, row.data());
+    out.row(static_cast<Eigen::Index>(c)) =
+        Eigen::Map<const Eigen::RowVectorXd>(row.data(), 2 * nb);
+  }
+}
+
+}  // namespace
+
+void scan_context_rows(const Cloud& aligned, const ScanContextConfig& config,
+                       const std::vector<Eigen::Vector2d>& centres, double mean,
+                       Eigen::MatrixXd& out) {
+  rows_impl(aligned, nullptr, config, centres, mean, out);
+}
+
+void scan_context_rows(const Cloud& scan, const AlignFrame& frame, const ScanContextConfig& config,
+                       const std::vector<Eigen::Vector2d>& centres, Eigen::MatrixXd& out) {
+  rows_impl(scan, &frame, config, centres, 0.0, out);
+}
+
+}  // namespace loopscan

@@ -1,0 +1,200 @@
+// Fast descriptor paths against straightforward re-implementations (std::atan2, std::sqrt,
+// one centre at a time), bit for bit, on random clouds and on points placed on bin boundaries.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/descriptors/m2dp.hpp"
+#include "loopscan/core/descriptors/m2dp_bins.hpp"
+#include "loopscan/core/descriptors/pca_align.hpp"
+#include "loopscan/core/descriptors/scan_context.hpp"
+#include "support/test_support.hpp"
+
+namespace loopscan {
+namespace {
+
+// Default-mode Scan Context of one centre, written from the definition.
+Eigen::RowVectorXd scan_context_oracle(const Cloud& aligned, const ScanContextConfig& c, double cx,
+                                       double cy) {
+  const int R = c.rings, S = c.sectors, B = R * S;
+  double mean = 0;
+  for (const PointI& q : aligned) mean += q.intensity;
+  if (!aligned.empty()) mean /= static_cast<double>(aligned.size());
+  std::vector<double> low(B), high(B), gray(B), count(B);
+  for (const PointI& q : aligned) {
+    const double a1 = q.p(1) - cx, a2 = q.p(2) - cy;
+    const int ring =
+        static_cast<int>(std::floor(std::sqrt(a1 * a1 + a2 * a2) * (R / c.max_radius_m)));
+    if (ring >= R) continue;
+    const int sector =
+        static_cast<int>(std::floor((std::atan2(a2, a1) + M_PI) * (S / (2.0 * M_PI)))) % S;
+    const int b = sector * R + ring;
+    const double h = q.p(0);
+    low[b] = count[b] == 0 ? h : std::min(low[b], h);
+    high[b] = count[b] == 0 ? h : std::max(high[b], h);
+    gray[b] += q.intensity;
+    count[b] += 1;
+  }
+  Eigen::RowVectorXd row(2 * B);
+  for (int b = 0; b < B; ++b) {
+    const bool any = count[b] > 0;
+    row(b) =
+        c.max_height ? (any ? std::max(0.0, high[b] + c.sensor_height_m) : 0.0) : high[b] - low[b];
+    row(B + b) = any && gray[b] / count[b] > mean ? 1.0 : 0.0;
+  }
+  return row;
+}
+
+// Random points plus points on sector rays, ring circles, the axes and the centres themselves.
+Cloud boundary_cloud(unsigned seed, const ScanContextConfig& c) {
+  Cloud cloud = test::street_cloud(seed, 1500);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-50.0, 50.0);
+  auto add = [&](double x, double z) {  // camera frame: x right, y down, z forward
+    cloud.push_back({{x, u(rng) / 10, z}, static_cast<float>(rng() % 256)});
+  };
+  for (int i = 0; i < 300; ++i) add(u(rng), u(rng));
+  for (double off : {0.0, -3.5, -1.75, 1.75, 3.5}) {
+    add(off, 0.0);  // a version's centre
+    for (int s = 0; s < 2 * c.sectors; ++s) {
+      const double a = s * M_PI / c.sectors, r = std::abs(u(rng)) * 0.9;
+      add(off + r * std::cos(a), r * std::sin(a));  // on (or halfway between) sector rays
+    }
+    for (int k = 0; k <= c.rings; ++k) {
+      const double r = k * c.max_radius_m / c.rings;
+      add(off + r, 0.0);
+      add(off, -r);
+      add(off - r * std::sqrt(0.5), r * std::sqrt(0.5));
+    }
+  }
+  return cloud;
+}
+
+TEST(ScanContextOracle, OnePassVersionsEqualTheDefinition) {
+  std::vector<ScanContextConfig> configs;
+  for (int sectors : {60, 40, 120}) {
+    for (int rings : {20, 7}) {
+      ScanContextConfig c = DescriptorConfig::for_mode(Mode::Default).scan_context;
+      c.sectors = sectors;
+      c.rings = rings;
+      configs.push_back(c);
+    }
+  }
+  configs.push_back(configs.front());
+  configs.back().max_height = true;
+  configs.push_back(configs.front());
+  configs.back().frame = DescriptorFrame::Centroid;
+  int compared = 0;
+  for (const ScanContextConfig& c : configs) {
+    for (unsigned seed : {1u, 2u, 3u}) {
+      const Cloud scan = boundary_cloud(seed, c);
+      Eigen::Matrix3d axes;
+      const Cloud aligned = align_scan(scan, c.frame, c.mode, &axes, c.lateral_offset_m);
+      const Signature fast = scan_context_signature(scan, c);
+      ASSERT_EQ(fast.rows(), 1 + static_cast<Eigen::Index>(c.lateral_versions_m.size()));
+      for (Eigen::Index v = 0; v < fast.rows(); ++v) {
+        const double off = v > 0 ? c.lateral_versions_m[v - 1] : 0.0;
+        const Eigen::Vector3d side = axes * Eigen::Vector3d(off, 0, 0);
+        const Eigen::RowVectorXd want = scan_context_oracle(aligned, c, side(1), side(2));
+        ASSERT_EQ(fast.row(v), want)
+            << c.sectors << " x " << c.rings << " seed " << seed << " version " << v;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_EQ(compared, 8 * 3 * 5);
+}
+
+TEST(ScanContextOracle, EmptyAndSinglePointScans) {
+  const ScanContextConfig c = DescriptorConfig::for_mode(Mode::Default).scan_context;
+  EXPECT_EQ(scan_context_signature({}, c).sum(), 0.0);
+  const Cloud one{{{0.0, 0.0, 0.0}, 7.f}};  // at the place's own centre: ring 0
+  const Signature s = scan_context_signature(one, c);
+  EXPECT_EQ(s.row(0), scan_context_oracle(align_scan(one, c.frame, c.mode), c, 0.0, 0.0));
+  for (int n = 1; n <= 19; ++n) {  // every tail length of the 2-, 4- and 8-lane kernels
+    const Cloud small = test::street_cloud(n, n);
+    const Cloud aligned = align_scan(small, c.frame, c.mode);
+    EXPECT_EQ(scan_context_signature(small, c).row(0), scan_context_oracle(aligned, c, 0.0, 0.0))
+        << n;
+  }
+}
+
+PlanarCloud planar(const Cloud& aligned) {
+  PlanarCloud soa;
+  const std::size_t padded = (aligned.size() + 15) / 16 * 16;
+  soa.x.assign(padded, 1e30f);
+  soa.y.assign(padded, 0.f);
+  soa.z.assign(padded, 0.f);
+  soa.gray.assign(padded, 0.f);
+  for (std::size_t i = 0; i < aligned.size(); ++i) {
+    soa.x[i] = static_cast<float>(aligned[i].p(0));
+    soa.y[i] = static_cast<float>(aligned[i].p(1));
+    soa.z[i] = static_cast<float>(aligned[i].p(2));
+    soa.gray[i] = aligned[i].intensity;
+  }
+  return soa;
+}
+
+// The packed integer accumulation (count and gray sum in one add) against the ordered double
+// sums, bit for bit, for gray values of every kind; and m2dp_matrices against the double path.
+TEST(M2dpOracle, PackedSumsEqualOrderedDoubleSums) {
+  const M2dpConfig cfg;
+  Eigen::Matrix3Xd xa, ya;
+  m2dp_plane_axes(cfg, xa, ya);
+  const M2dpBinner binner(cfg.azimuth_bins, cfg.radial_bins, cfg.max_radius_m);
+  const int bins = cfg.azimuth_bins * cfg.radial_bins;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.f, 255.f);
+  int packed_runs = 0, plain_runs = 0;
+  for (int kind = 0; kind < 5; ++kind) {
+    for (int n : {2000, 2001, 6343}) {
+      Cloud aligned = pca_align(test::street_cloud(kind + 1, n), Mode::Default);
+      for (std::size_t i = 0; i < aligned.size(); ++i) {
+        float& g = aligned[i].intensity;
+        if (kind == 0) g = std::floor(u(rng));                    // gray levels
+        if (kind == 1) g = u(rng);                                // any float in 0..255
+        if (kind == 2) g = i % 3 == 0 ? u(rng) * 1e-4f : u(rng);  // too fine to pack
+        if (kind == 3) g = i % 7 == 0 ? 0.f : 1.f / (1 + i % 13);
+        if (kind == 4) g = u(rng) - 10.f;  // negative: the double path
+      }
+      PlanarCloud soa = planar(aligned);
+      const bool packed = pack_gray(soa, soa.gray.size());
+      EXPECT_EQ(packed, kind != 2 && kind != 4) << kind;
+      (packed ? packed_runs : plain_runs)++;
+      std::vector<double> count(xa.cols() * bins, 0.0), gray(count.size(), 0.0);
+      for (Eigen::Index k = 0; k < xa.cols(); ++k) {
+        binner.accumulate(soa, xa.col(k), ya.col(k), &count[k * bins], &gray[k * bins]);
+      }
+      if (packed) {
+        std::vector<long long> acc(count.size(), 0);
+        for (Eigen::Index k = 0; k < xa.cols(); ++k) {
+          binner.accumulate_packed(soa, xa.col(k), ya.col(k), &acc[k * bins]);
+        }
+        for (std::size_t i = 0; i < acc.size(); ++i) {
+          ASSERT_EQ(static_cast<double>(acc[i] >> soa.count_shift), count[i]) << kind << " " << i;
+          const long long low = acc[i] & ((1LL << soa.count_shift) - 1);
+          ASSERT_EQ(static_cast<double>(low) * soa.gray_unit, gray[i]) << kind << " " << i;
+        }
+      }
+      // m2dp_matrices (whichever path it takes) against the ordered sums.
+      const M2dpMatrices m = m2dp_matrices(aligned, cfg);
+      double mean = 0;
+      for (const PointI& q : aligned) mean += q.intensity;
+      mean /= static_cast<double>(aligned.size());
+      for (Eigen::Index k = 0; k < xa.cols(); ++k) {
+        for (int b = 0; b < bins; ++b) {
+          const double c = count[k * bins + b], g = gray[k * bins + b];
+          ASSERT_EQ(m.count(k, b), std::log1p(c));
+          ASSERT_EQ(m.gray(k, b), c > 0 && g / c > mean ? 1.0 : 0.0);
+        }
+      }
+    }
+  }
+  EXPECT_EQ(packed_runs, 9);
+  EXPECT_EQ(plain_runs, 6);
+}
+
+}  // namespace
+}  // namespace loopscan
