@@ -153,8 +153,9 @@ class PatchedDatabase : public BadValues {
   std::string load_error(const std::string& path) {
     return error_of([&] { load_database(path); });
   }
-  // Header 52 bytes; a place: session, keyframe, pose flag, frame (9 f32), pose (12 f64), payload.
-  static constexpr std::size_t kPlace = 52, kFrame = kPlace + 9, kPose = kFrame + 36,
+  // Header 56 bytes (version 3); a place: session, keyframe, pose flag, frame (9 f32), pose
+  // (12 f64), payload.
+  static constexpr std::size_t kPlace = 56, kFrame = kPlace + 9, kPose = kFrame + 36,
                                kPayload = kPose + 96;
 };
 
