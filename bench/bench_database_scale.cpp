@@ -112,14 +112,19 @@ void run_map(const std::string& kind, const Options& opt, const sim::Trajectory&
   std::vector<std::size_t> origin;  // base place of every map place
   std::mt19937 rng(42);
   double build_s = 0, sc_build_s = 0;
-  std::printf("| map | places | build s | bytes/place | ms/query | top-1 = exact | same place as exact | true place | SC tree ms/query | SC true place | SC tree = SC brute force | SC bytes/place |\n");
-  std::printf("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
+  std::printf(
+      "| map | places | build s | bytes/place | ms/query | top-1 = exact | same place as exact | "
+      "true place | SC tree ms/query | SC true place | SC tree = SC brute force | SC bytes/place "
+      "|\n");
+  std::printf(
+      "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n");
   for (long n : opt.sizes) {
     std::vector<Signature> added;
     while (static_cast<long>(db.size()) < n) {
       const std::size_t i = db.size(), j = i % base.places.size();
       PlaceDescriptor d = base.places[j];
-      d.signature = i < base.places.size() ? Signature(d.signature.topRows(1)) : perturbed(d.signature, rng);
+      d.signature =
+          i < base.places.size() ? Signature(d.signature.topRows(1)) : perturbed(d.signature, rng);
       double t0 = now_s();
       db.add({0, static_cast<int>(i)}, d);
       build_s += now_s() - t0;
@@ -180,7 +185,8 @@ void run_map(const std::string& kind, const Options& opt, const sim::Trajectory&
                 double(sc.memory_bytes()) / n);
     std::fflush(stdout);
   }
-  std::printf("(%zu queries with a true place; SC tree build %.1f s)\n\n", chosen.size(), sc_build_s);
+  std::printf("(%zu queries with a true place; SC tree build %.1f s)\n\n", chosen.size(),
+              sc_build_s);
 }
 
 }  // namespace
@@ -191,26 +197,36 @@ int main(int argc, char** argv) {
   Options opt;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
-    if (a == "--sizes") opt.sizes = numbers(v);
+    if (a == "--sizes")
+      opt.sizes = numbers(v);
     else if (a == "--maps") {
       opt.maps.clear();
       std::stringstream in(v);
       for (std::string m; std::getline(in, m, ',');) opt.maps.push_back(m);
-    } else if (a == "--storage") opt.storage = v == "full" ? PlaceStorage::Full : PlaceStorage::Compact;
-    else if (a == "--queries") opt.queries = std::stoi(v);
-    else if (a == "--candidates") opt.indexed.candidates = std::stoi(v);
-    else if (a == "--pool") opt.indexed.index_pool_factor = std::stoi(v);
-    else if (a == "--stats") opt.indexed.stats_sample = std::stoi(v);
-    else if (a == "--refine") opt.indexed.refine = std::stoi(v);
-    else if (a == "--oracle-max") opt.oracle_max = std::stol(v);
-    else if (a == "--baseline-oracle-max") opt.baseline_oracle_max = std::stol(v);
+    } else if (a == "--storage")
+      opt.storage = v == "full" ? PlaceStorage::Full : PlaceStorage::Compact;
+    else if (a == "--queries")
+      opt.queries = std::stoi(v);
+    else if (a == "--candidates")
+      opt.indexed.candidates = std::stoi(v);
+    else if (a == "--pool")
+      opt.indexed.index_pool_factor = std::stoi(v);
+    else if (a == "--stats")
+      opt.indexed.stats_sample = std::stoi(v);
+    else if (a == "--refine")
+      opt.indexed.refine = std::stoi(v);
+    else if (a == "--oracle-max")
+      opt.oracle_max = std::stol(v);
+    else if (a == "--baseline-oracle-max")
+      opt.baseline_oracle_max = std::stol(v);
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;
     }
   }
   const sim::Trajectory route = sim::make_builtin_trajectory("city");
-  const auto queries = sim::simulate_places(route, sim::Season::Summer, 7, 102, Method::ScanContext, 2);
+  const auto queries =
+      sim::simulate_places(route, sim::Season::Summer, 7, 102, Method::ScanContext, 2);
   std::printf("storage: %s\n\n", opt.storage == PlaceStorage::Compact ? "compact" : "full");
   for (const std::string& m : opt.maps) loopscan::run_map(m, opt, route, queries);
 }

@@ -64,7 +64,8 @@ void ScanContextTree::add(const Signature& signature) {
 
 void ScanContextTree::build() { tree_ = std::make_unique<Tree>(ring_keys_, rings_, count_); }
 
-double ScanContextTree::distance(const float* q, const float* q_sector_key, std::size_t place) const {
+double ScanContextTree::distance(const float* q, const float* q_sector_key,
+                                 std::size_t place) const {
   const int R = rings_, S = sectors_, radius = static_cast<int>(std::lround(0.5 * 0.1 * S));
   const float* p = &cells_[place * R * S];
   const float* pk = &sector_keys_[place * S];
@@ -103,7 +104,8 @@ std::pair<std::size_t, double> ScanContextTree::query(const Signature& signature
   keys_of(q.data(), R, S, ring_key.data(), sector_key.data());
   std::vector<std::uint32_t> ids(candidates);
   std::vector<float> d2(candidates);
-  const std::size_t found = tree_->tree.knnSearch(ring_key.data(), candidates, ids.data(), d2.data());
+  const std::size_t found =
+      tree_->tree.knnSearch(ring_key.data(), candidates, ids.data(), d2.data());
   std::pair<std::size_t, double> best{0, std::numeric_limits<double>::max()};
   for (std::size_t j = 0; j < found; ++j) {
     const double d = distance(q.data(), sector_key.data(), ids[j]);

@@ -35,7 +35,8 @@ void compress_spectra(const CompactSpectraShape& shape, const float* packed, flo
 namespace {
 
 // The same loop compiled for AVX2 (8 bytes widened per instruction) and for the baseline.
-LOOPSCAN_INLINE void expand_rows(const CompactSpectraShape& shape, const float* compact, float* out) {
+LOOPSCAN_INLINE void expand_rows(const CompactSpectraShape& shape, const float* compact,
+                                 float* out) {
   const int S = shape.sectors;
   const auto* bytes = reinterpret_cast<const std::int8_t*>(compact + shape.rows);
   for (int r = 0; r < shape.rows; ++r) {
@@ -60,7 +61,8 @@ LOOPSCAN_AVX2 void expand_avx2(const CompactSpectraShape& shape, const float* co
     int k = 0;
     for (; k + 8 <= S; k += 8) {
       const __m128i eight = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(q + k));
-      _mm256_storeu_ps(x + k, _mm256_mul_ps(scale, _mm256_cvtepi32_ps(_mm256_cvtepi8_epi32(eight))));
+      _mm256_storeu_ps(x + k,
+                       _mm256_mul_ps(scale, _mm256_cvtepi32_ps(_mm256_cvtepi8_epi32(eight))));
     }
     for (; k < S; ++k) x[k] = compact[r] * static_cast<float>(q[k]);
   }

@@ -28,42 +28,50 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<
     std::uint32_t>;
 
 // k-nearest result set that skips places the query may not match, so the tree's pruning
-// bound is the k-th *eligible* distance and the answer is exact among eligible places.
+// bound is (at most a little above) the k-th *eligible* distance and the answer is exact among
+// eligible places. Points closer than the bound are appended and the buffer is cut back to the
+// k best whenever it holds 2k (amortised O(1) a point; a heap costs O(log k) each, which
+// dominated searches for hundreds of neighbours). Ties go to the smaller index.
 class EligibleKnn {
  public:
   using DistanceType = float;
   using IndexType = std::uint32_t;
   EligibleKnn(std::size_t capacity, const std::function<bool(std::size_t)>& eligible)
       : capacity_(capacity), eligible_(eligible) {
-    items_.reserve(capacity + 1);
+    items_.reserve(2 * capacity + 1);
   }
-  std::size_t size() const { return items_.size(); }
-  bool full() const { return items_.size() == capacity_; }
-  float worstDist() const {
-    return full() ? items_.front().first : std::numeric_limits<float>::max();
-  }
+  std::size_t size() const { return std::min(items_.size(), capacity_); }
+  bool full() const { return items_.size() >= capacity_; }
+  float worstDist() const { return bound_; }
   // Tree searches report indices local to their range: `offset` turns them into places.
   void set_offset(std::size_t offset) { offset_ = offset; }
   bool addPoint(float dist, std::uint32_t local) {
-    if (full() && dist >= items_.front().first) return true;
+    if (dist > bound_) return true;
     const std::size_t index = offset_ + local;
     if (!eligible_(index)) return true;
-    items_.emplace_back(dist, index);  // max-heap on distance: the worst kept is in front
-    std::push_heap(items_.begin(), items_.end());
-    if (items_.size() > capacity_) {
-      std::pop_heap(items_.begin(), items_.end());
-      items_.pop_back();
+    items_.emplace_back(dist, index);
+    if (items_.size() == capacity_) {
+      bound_ = std::max_element(items_.begin(), items_.end())->first;
+    } else if (items_.size() >= 2 * capacity_) {
+      cut();
     }
     return true;
   }
   std::vector<std::pair<float, std::size_t>>& sorted_items() {
-    std::sort_heap(items_.begin(), items_.end());
+    if (items_.size() > capacity_) cut();
+    std::sort(items_.begin(), items_.end());
     return items_;
   }
 
  private:
+  void cut() {
+    std::nth_element(items_.begin(), items_.begin() + (capacity_ - 1), items_.end());
+    items_.resize(capacity_);
+    bound_ = items_.back().first;  // the k-th distance: nth_element put it last
+  }
   std::size_t capacity_;
   std::size_t offset_ = 0;
+  float bound_ = std::numeric_limits<float>::max();
   const std::function<bool(std::size_t)>& eligible_;
   std::vector<std::pair<float, std::size_t>> items_;
 };

@@ -150,9 +150,19 @@ class ScanContextStore final : public PlaceStore {
       static const auto key_distance = simd::has_avx2() ? key_distance_avx2 : key_distance_base;
       const std::size_t dims = q.key.size();
       std::vector<std::uint16_t> key(dims);
-      for (const auto& [d, i] : near) {
+      // The candidates' keys are scattered over the arena: fetch a few ahead.
+      constexpr std::size_t kAhead = 8;
+      auto prefetch = [&](std::size_t j) {
+        const char* p = reinterpret_cast<const char*>(keys_.at(near[j].second));
+        for (std::size_t b = 0; b < dims * 2; b += 64) __builtin_prefetch(p + b);
+      };
+      for (std::size_t j = 0; j < std::min(kAhead, near.size()); ++j) prefetch(j);
+      for (std::size_t j = 0; j < near.size(); ++j) {
+        if (j + kAhead < near.size()) prefetch(j + kAhead);
+        const std::size_t i = near[j].second;
         std::memcpy(key.data(), keys_.at(i), dims * 2);
-        ranked.emplace_back(static_cast<std::int64_t>(key_distance(q.key.data(), key.data(), dims)), i);
+        ranked.emplace_back(static_cast<std::int64_t>(key_distance(q.key.data(), key.data(), dims)),
+                            i);
       }
       const std::size_t n = std::min(count, ranked.size());
       std::partial_sort(ranked.begin(), ranked.begin() + n, ranked.end());
