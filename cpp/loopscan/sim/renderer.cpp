@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "loopscan/core/parallel.hpp"
+#include "loopscan/sim/render_ground.hpp"
 #include "loopscan/sim/render_noise.hpp"
 #include "loopscan/sim/render_visibility.hpp"
 #include "loopscan/sim/texture_noise.hpp"
@@ -41,10 +42,12 @@ View make_view(const World& world, const Conditions& conditions, const StereoCam
 
 // Nearest hit of pixel (u, v)'s ray d within t_best (lowered to it): the ground, then the
 // tile's objects nearest first, as World::raycast finds it.
-HitRef first_hit(const View& view, int u, int v, const Eigen::Vector3d& d, double& t_best) {
+HitRef first_hit(const View& view, int u, int v, const Eigen::Vector3d& d, double& t_best,
+                 GroundCaches& caches) {
   HitRef best;
   const StaticWorld& w = *view.world;
-  const double tg = ground_t(w, view.origin, d);
+  const double tg =
+      ground_t_with(w, view.origin, d, [&](double x, double z) { return caches.y_at(x, z); });
   if (tg >= 0.0 && tg < t_best) {
     t_best = tg;
     best.ground = best.found = true;
@@ -62,42 +65,13 @@ HitRef first_hit(const View& view, int u, int v, const Eigen::Vector3d& d, doubl
   return best;
 }
 
-// Road / sidewalk / ground of the ground hits along a row. The centreline distance is
-// 1-Lipschitz, so a point closer to the last queried one than that query's margin to the class
-// borders has its class: most ground pixels need no nearest-segment search.
-class GroundClasses {
- public:
-  explicit GroundClasses(const StaticWorld& w)
-      : w_(w),
-        borders_{w.config.road_half_width_m,
-                 w.config.road_half_width_m + w.config.sidewalk_width_m} {}
-  Surface at(double x, double z) {
-    const double dx = x - x_, dz = z - z_;
-    if (dx * dx + dz * dz < reach2_) return surface_;
-    const double d = w_.centreline.nearest(x, z).distance;
-    const double reach =
-        std::min(std::abs(d - borders_[0]), std::abs(d - borders_[1])) * (1.0 - 1e-9) - 1e-9;
-    x_ = x;
-    z_ = z;
-    reach2_ = reach > 0.0 ? reach * reach : -1.0;
-    surface_ = ground_surface(w_, d);
-    return surface_;
-  }
-
- private:
-  const StaticWorld& w_;
-  double borders_[2];
-  double x_ = 0.0, z_ = 0.0, reach2_ = -1.0;
-  Surface surface_ = Surface::Ground;
-};
-
 // The albedo-only shading of a hit found by first_hit.
 Hit shade(const View& view, const HitRef& ref, const Eigen::Vector3d& d, double t,
-          const Conditions& conditions, GroundClasses& ground) {
+          const Conditions& conditions, GroundCaches& ground) {
   if (!ref.ground)
     return shade_hit(*view.world, ref, view.origin, d, t, view.cars.get(), conditions, false);
   const Eigen::Vector3d p = view.origin + t * d;
-  return shade_ground_as(*view.world, ground.at(p.x(), p.z()), p, t, conditions, false);
+  return shade_ground_as(*view.world, ground.surface_at(p.x(), p.z()), p, t, conditions, false);
 }
 
 // std::lround(g) clamped to 0..255 without the library call: g - trunc(g) is exact, so
@@ -136,8 +110,8 @@ LOOPSCAN_SIM_CLONES void render_row(const RowJob& job, int v) {
   GaussianNoise noise(config.seed * 2654435761u + static_cast<unsigned>(frame) * 97u +
                           static_cast<unsigned>(camera_index) * 7919u + static_cast<unsigned>(v),
                       config.noise_sigma > 0 ? config.noise_sigma : 1.0);
-  std::optional<GroundClasses> ground;
-  if (view.world) ground.emplace(*view.world);
+  std::optional<GroundCaches> ground;
+  if (view.world) ground.emplace(*view.world, view.origin);
   for (int u = 0; u < camera.width; ++u) {
     const Eigen::Vector3d ray = view.R * camera.ray(u, v);
     std::optional<Hit> hit;
@@ -145,7 +119,7 @@ LOOPSCAN_SIM_CLONES void render_row(const RowJob& job, int v) {
       hit = world.raycast(view.origin, ray, config.max_distance_m, conditions);
     } else if (view.world) {
       double t = config.max_distance_m;
-      const HitRef ref = first_hit(view, u, v, ray, t);
+      const HitRef ref = first_hit(view, u, v, ray, t, *ground);
       if (ref.found) hit = shade(view, ref, ray, t, conditions, *ground);
     }
     // Sky: brighter towards the horizon (world y points down: -ray.y is the elevation).
@@ -192,6 +166,8 @@ std::vector<double> render_depth(const World& world, const Conditions& condition
   const View view =
       make_view(world, conditions, camera, T_world_cam, camera_index, config.max_distance_m);
   for_each_row(camera, config.threads, [&](int v) {
+    std::optional<GroundCaches> ground;
+    if (view.world) ground.emplace(*view.world, view.origin);
     for (int u = 0; u < camera.width; ++u) {
       const Eigen::Vector3d ray = view.R * camera.ray(u, v);
       double t = 0.0;
@@ -200,7 +176,7 @@ std::vector<double> render_depth(const World& world, const Conditions& condition
         if (hit) t = hit->distance;
       } else if (view.world) {
         double t_best = config.max_distance_m;
-        if (first_hit(view, u, v, ray, t_best).found) t = t_best;
+        if (first_hit(view, u, v, ray, t_best, *ground).found) t = t_best;
       }
       depth[static_cast<std::size_t>(v) * camera.width + u] = t;
     }

@@ -50,6 +50,10 @@ double value_noise3(double x, double y, double z, std::uint32_t salt);
 double fbm2(double x, double y, std::uint32_t salt, int octaves);
 
 inline double smoothstep(double e0, double e1, double x) {
+  if (e0 < e1) {  // outside the edge: the clamped result, without the division
+    if (x <= e0) return 0.0;
+    if (x >= e1) return 1.0;
+  }
   double t = (x - e0) / (e1 - e0);
   t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
   return t * t * (3.0 - 2.0 * t);

@@ -152,6 +152,32 @@ CentrelineIndex::Nearest CentrelineIndex::nearest(double x, double z) const {
   return nearest_linear(x, z);
 }
 
+void CentrelineIndex::segments_near(double x, double z, double radius, std::size_t max_cells,
+                                    std::vector<std::uint32_t>& out) const {
+  out.clear();
+  if (segs_.empty()) return;
+  const int i0 = cell_x(x - radius), i1 = cell_x(x + radius);
+  const int j0 = cell_z(z - radius), j1 = cell_z(z + radius);
+  if (static_cast<std::size_t>(i1 - i0 + 1) * static_cast<std::size_t>(j1 - j0 + 1) > max_cells)
+    return;
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
+      for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
+        Nearest n;
+        consider(segs_[items_[k]], x, z, n);
+        if (n.distance <= radius) out.push_back(items_[k]);
+      }
+    }
+}
+
+CentrelineIndex::Nearest CentrelineIndex::nearest_among(const std::vector<std::uint32_t>& segments,
+                                                        double x, double z) const {
+  Nearest best;
+  for (const std::uint32_t s : segments) consider(segs_[s], x, z, best);
+  return best;
+}
+
 double CentrelineIndex::distance_to(const Footprint& f, double search) const {
   double best = std::numeric_limits<double>::infinity();
   if (segs_.empty()) return best;

@@ -37,6 +37,14 @@ class CentrelineIndex {
   // segments within `search` of it (infinity if none).
   double distance_to(const Footprint& f, double search) const;
 
+  // The segments that come within `radius` of (x, z) (some twice). Empty if more than
+  // max_cells grid cells would be searched.
+  void segments_near(double x, double z, double radius, std::size_t max_cells,
+                     std::vector<std::uint32_t>& out) const;
+  // nearest() among the given segments only (exact when they hold every segment within the
+  // nearest distance).
+  Nearest nearest_among(const std::vector<std::uint32_t>& segments, double x, double z) const;
+
   std::size_t segment_count() const { return segs_.size(); }
   bool empty() const { return segs_.empty(); }
   double min_y() const { return min_y_; }

@@ -1,5 +1,7 @@
 #pragma once
 // Internals of World shared by world.cpp, world_raycast.cpp and world_shading.cpp.
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <mutex>
 #include <utility>
@@ -32,8 +34,32 @@ struct WorldAccess {
   }
 };
 
-// Ray parameter of the ground hit, or a negative value if the ray does not reach the ground.
-double ground_t(const StaticWorld& w, const Eigen::Vector3d& o, const Eigen::Vector3d& d);
+// Ray parameter of the ground hit, or a negative value if the ray does not reach the ground;
+// ground_y(x, z) gives ground_y_at(w, x, z) (the renderer answers it from a local cache).
+template <class GroundY>
+double ground_t_with(const StaticWorld& w, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                     GroundY&& ground_y) {
+  if (w.centreline.empty() || d.y() <= 1e-12) return -1.0;
+  double g = ground_y(o.x(), o.z());
+  if (o.y() >= g) return -1.0;  // at or below the ground
+  double t = (g - o.y()) / d.y();
+  if (w.flat) return t;
+  // Sloped streets: iterate the local plane under the hit point (a few steps converge).
+  for (int it = 0; it < 6; ++it) {
+    const Eigen::Vector3d p = o + t * d;
+    g = ground_y(p.x(), p.z());
+    const double t2 = (g - o.y()) / d.y();
+    if (t2 <= 0.0) return -1.0;
+    const bool done = std::abs(t2 - t) < 1e-9 * std::max(1.0, t);
+    t = t2;
+    if (done) break;
+  }
+  return t;
+}
+
+inline double ground_t(const StaticWorld& w, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  return ground_t_with(w, o, d, [&](double x, double z) { return ground_y_at(w, x, z); });
+}
 
 // What a ray met, before shading: the ground or the nearest object (by its grid code).
 struct HitRef {

@@ -13,26 +13,6 @@ constexpr std::size_t kMaxSessions = 8;
 
 }  // namespace
 
-// Ray parameter of the ground hit, or a negative value if the ray does not reach the ground.
-double ground_t(const StaticWorld& w, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
-  if (w.centreline.empty() || d.y() <= 1e-12) return -1.0;
-  double g = ground_y_at(w, o.x(), o.z());
-  if (o.y() >= g) return -1.0;  // at or below the ground
-  double t = (g - o.y()) / d.y();
-  if (w.flat) return t;
-  // Sloped streets: iterate the local plane under the hit point (a few steps converge).
-  for (int it = 0; it < 6; ++it) {
-    const Eigen::Vector3d p = o + t * d;
-    g = ground_y_at(w, p.x(), p.z());
-    const double t2 = (g - o.y()) / d.y();
-    if (t2 <= 0.0) return -1.0;
-    const bool done = std::abs(t2 - t) < 1e-9 * std::max(1.0, t);
-    t = t2;
-    if (done) break;
-  }
-  return t;
-}
-
 World::CarCache::Cars World::CarCache::get(const StaticWorld& world, unsigned session_seed) {
   std::lock_guard<std::mutex> lock(mutex);
   for (const auto& [seed, cars] : sessions)

@@ -56,6 +56,11 @@ Cloud boundary_cloud(unsigned seed, const ScanContextConfig& c) {
     cloud.push_back({{x, u(rng) / 10, z}, static_cast<float>(rng() % 256)});
   };
   for (int i = 0; i < 300; ++i) add(u(rng), u(rng));
+  for (double tiny : {1e-42, 3e-39, 1e-300, 1e-20}) {  // next to the place's centre
+    add(tiny, tiny * 0.3);
+    add(-tiny * 0.2, tiny);
+    add(-tiny, -tiny * 0.9);
+  }
   for (double off : {0.0, -3.5, -1.75, 1.75, 3.5}) {
     add(off, 0.0);  // a version's centre
     for (int s = 0; s < 2 * c.sectors; ++s) {

@@ -24,54 +24,59 @@ struct BinArgs {
   int* bins;  // n_centres x n_vec: bin, kOut or kFix
 };
 
-// Products and sums are kept apart (-ffp-contract=off for this file) so that
-// sqrt(a1 * a1 + a2 * a2) rounds exactly as the scalar loop's. Integers (boundaries passed,
-// sectors, bins) stay in double lanes, exact, up to one conversion. kLast > 0: that many
-// boundaries, unrolled; 0: a.last of them.
+// a1, a2 exactly as the scalar loop (-ffp-contract=off for this file); the ring and the sector
+// then in single precision with margins far above its rounding (~1e-7): lanes within 1e-5 (in
+// tan) of a sector boundary or 1e-4 (in rings) of a ring boundary get kFix and their bin from
+// the doubles (AngleBinner, exact); every other lane's float decisions are the double ones.
 template <int W, int kLast>
 LOOPSCAN_INLINE void bin_points(const BinArgs& a) {
   using V = typename simd::Vec<double, W>::type;
+  using F = typename simd::Vec<float, W / 2>::type;
   using VI = typename simd::Vec<int, W / 2>::type;
   constexpr int kV = simd::Vec<double, W>::kLanes;
   const int last = kLast > 0 ? kLast : a.last;
-  // A lane is near a boundary b when lo < t < hi, lo/hi = b -/+ 2e-12: a superset of the
-  // lanes AngleBinner sends to std::atan2 (|t - b| < 1e-12), which take its own path here.
-  double lo[kMaxSectors], hi[kMaxSectors];
+  float lo[kMaxSectors], hi[kMaxSectors];
   for (int j = 0; j <= last; ++j) {
-    lo[j] = a.tan[j] - 2e-12;
-    hi[j] = a.tan[j] + 2e-12;
+    lo[j] = static_cast<float>(a.tan[j] - 1e-5);
+    hi[j] = static_cast<float>(a.tan[j] + 1e-5);
   }
-  const V zero{}, one = zero + 1.0;
-  const double rings = a.rings;
+  const F zero{}, one = zero + 1.f;
+  const float rings = static_cast<float>(a.rings), ring_inv = static_cast<float>(a.ring_inv);
+  const float q1 = static_cast<float>(a.q1), q2 = static_cast<float>(a.q2);
+  const float offset = static_cast<float>(a.offset);
   for (std::size_t i = 0; i < a.n_vec; i += kV) {
     const V x = simd::load<V>(a.x + i), z = simd::load<V>(a.z + i);
     for (int c = 0; c < a.n_centres; ++c) {
       const V a1 = x - a.centres[c].x(), a2 = z - a.centres[c].y();
-      const V d2 = a1 * a1 + a2 * a2;
-      V r, ring;
-      for (int l = 0; l < kV; ++l) r[l] = __builtin_sqrt(d2[l]);
-      r *= a.ring_inv;
-      // floor (r >= 0) through int32 and back: converts, where trunc() would stay scalar.
-      ring = __builtin_convertvector(__builtin_convertvector(r < rings ? r : zero, VI), V);
-      // AngleBinner's symmetries: t = tan of the angle to the nearer axis, k = boundaries passed
-      // (k_lo differs from k only next to a boundary).
-      const V ax = a1 < 0 ? -a1 : a1, ay = a2 < 0 ? -a2 : a2;
-      const V mx = ay > ax ? ay : ax, mn = ay > ax ? ax : ay;
-      const V t = mn / mx;
-      V k_lo = t > lo[0] ? one : zero, k = t >= hi[0] ? one : zero;
+      const F d2 = __builtin_convertvector(a1 * a1 + a2 * a2, F);
+      F r;
+      for (int l = 0; l < kV; ++l) r[l] = __builtin_sqrtf(d2[l]);
+      r *= ring_inv;
+      const F in = r < rings + 1.f ? r : zero;
+      const F ring = __builtin_convertvector(__builtin_convertvector(in, VI), F);
+      const F frac = r - ring;
+      const F a1f = __builtin_convertvector(a1, F), a2f = __builtin_convertvector(a2, F);
+      const F ax = a1f < 0 ? -a1f : a1f, ay = a2f < 0 ? -a2f : a2f;
+      const F mx = ay > ax ? ay : ax, mn = ay > ax ? ax : ay;
+      F k_lo = mn > lo[0] * mx ? one : zero, k = mn >= hi[0] * mx ? one : zero;
       for (int j = 1; j <= last; ++j) {
-        k_lo += t > lo[j] ? one : zero;
-        k += t >= hi[j] ? one : zero;
+        k_lo += mn > lo[j] * mx ? one : zero;
+        k += mn >= hi[j] * mx ? one : zero;
       }
-      k -= 1.0;  // boundary 0 (t = 0) is passed by every lane off the axes
-      const V kb = ay > ax ? a.q1 - k : k;
-      const V upper = a1 >= 0 ? kb : a.q2 - kb;
-      const V sector = (a2 >= 0 ? upper : -1.0 - upper) + a.offset;
-      // On an axis or next to a boundary: kFix, left to AngleBinner itself (its exact path).
-      // k_lo - k is 1 off the boundaries (mask logic is left out: compilers scalarise it).
-      const V flag = (k_lo - k) + (mn > 0 ? zero : one);
-      const V fix_or_bin = flag > 1.5 ? zero + kFix : sector * rings + ring;
-      const V bin = r < rings ? fix_or_bin : zero + kOut;
+      k -= 1.f;
+      const F kb = ay > ax ? q1 - k : k;
+      const F upper = a1f >= 0 ? kb : q2 - kb;
+      const F sector = (a2f >= 0 ? upper : -1.f - upper) + offset;
+      // Flags add up (compilers scalarise mask logic): k_lo - k is 1 off the boundaries and
+      // 2 or more next to one; on an axis (k_lo - k may be anything) or next to a ring
+      // boundary, 100 each.
+      const F big = zero + 100.f;
+      // Coordinates below 1e-30 (subnormal floats have too few bits) take the exact path too.
+      const F flag = (k_lo - k) + (mn > 0 ? zero : big) + (mx < 1e-30f ? big : zero) +
+                     (frac < 1e-4f ? big : zero) + (frac > 1.f - 1e-4f ? big : zero);
+      const F fix_or_bin = flag > 1.5f ? zero + kFix : sector * rings + ring;
+      const F bin =
+          r < rings - 1e-4f ? fix_or_bin : (r > rings + 1e-4f ? zero + kOut : zero + kFix);
       simd::store(a.bins + c * a.n_vec + i, __builtin_convertvector(bin, VI));
     }
   }
@@ -107,8 +112,9 @@ void accumulate(const BinArgs& a, const double* h, const float* g, std::size_t n
         if (b == kOut) continue;
         // The kernel's doubles, recomputed; the sector from AngleBinner as bin_aligned does.
         const double a1 = a.x[i] - a.centres[c].x(), a2 = a.z[i] - a.centres[c].y();
-        const int ring = static_cast<int>(std::sqrt(a1 * a1 + a2 * a2) * a.ring_inv);
-        b = ((*a.binner)(a2, a1) % a.sectors) * a.rings + ring;
+        const double r = std::sqrt(a1 * a1 + a2 * a2) * a.ring_inv;
+        if (!(r < a.rings)) continue;  // beyond the last ring, as bin_aligned drops it
+        b = ((*a.binner)(a2, a1) % a.sectors) * a.rings + static_cast<int>(r);
       }
       Cell& e = cells[c * nb + b];
       e.neg_low_high = v > e.neg_low_high ? v : e.neg_low_high;

@@ -1,9 +1,10 @@
 #pragma once
 // Default-mode Scan Context of several centres (the place and its lateral versions) from one
-// read of the aligned points: every point's bin for every centre is found a vector of doubles
-// at a time (sqrt; the sector by comparing tan of the angle with the boundaries, the
-// AngleBinner's exact std::atan2 path for lanes next to one), then accumulated in point order.
-// Same doubles, same operations as the per-centre loop in scan_context.cpp: identical rows.
+// read of the aligned points: every point's bin for every centre is found a vector at a time
+// (offsets in double, then radius and the tangent of the angle in single precision; lanes
+// within a wide margin of a ring or sector boundary get their bin from the doubles through
+// AngleBinner, exact), then accumulated in point order: the rows of the per-centre loop in
+// scan_context.cpp, bit for bit.
 #include <vector>
 
 #include <Eigen/Core>
