@@ -1,6 +1,7 @@
 #include "loopscan/core/database/key_index.hpp"
 
 #include <algorithm>
+#include <initializer_list>
 #include <limits>
 
 #include <nanoflann.hpp>
@@ -8,14 +9,14 @@
 namespace loopscan {
 namespace {
 
-// The keys of places [first, first + size) as nanoflann sees them: while the tree is built,
-// straight from the shared key array; once built, a copy in the tree's leaf order (`leaf`,
-// with `ids` giving each one's place), so a search reads each leaf's keys contiguously
-// instead of one scattered key per point (at 10^6 places the scattered reads dominated).
+// The keys of one tree's places as nanoflann sees them: while the tree is built, a gathered
+// array; once built, the keys in the tree's leaf order (`leaf`, with `ids` giving each one's
+// place), so a search reads each leaf's keys contiguously instead of one scattered key per
+// point (at 10^6 places the scattered reads dominated).
 struct KeyRange {
   const float* data = nullptr;
   int dims = 0;
-  std::size_t first = 0, size = 0;
+  std::size_t size = 0;
   std::vector<float> leaf;
   std::vector<std::uint32_t> ids;
   std::size_t kdtree_get_point_count() const { return size; }
@@ -93,36 +94,59 @@ constexpr std::size_t kTail = 1024;
 
 struct KeyIndex::Impl {
   int dims;
-  std::vector<float> keys;  // dims per place
   std::size_t count = 0;
-  KeyRange main_range, second_range;
+  KeyRange main_range, second_range;  // each holds its places' keys, in leaf order
   std::unique_ptr<Tree> main, second;
+  std::vector<float> tail;  // keys of the places [tail_first, count), not in a tree yet
+  std::size_t tail_first = 0;
   explicit Impl(int d) : dims(d) {}
-  std::unique_ptr<Tree> build(KeyRange& range, std::size_t first, std::size_t end) {
-    range = KeyRange{keys.data() + first * dims, dims, first, end - first, {}, {}};
-    if (range.size == 0) return nullptr;
+
+  // A tree over the keys of `parts` (and the tail): gathered, indexed, then re-laid in the
+  // tree's order with the permutation made the identity. Frees the parts' copies.
+  std::unique_ptr<Tree> build(KeyRange& range, std::initializer_list<KeyRange*> parts) {
+    std::vector<float> keys;
+    std::vector<std::uint32_t> ids;
+    for (KeyRange* part : parts) {
+      keys.insert(keys.end(), part->leaf.begin(), part->leaf.end());
+      ids.insert(ids.end(), part->ids.begin(), part->ids.end());
+      *part = KeyRange{};
+    }
+    keys.insert(keys.end(), tail.begin(), tail.end());
+    for (std::size_t i = tail_first; i < count; ++i) ids.push_back(static_cast<std::uint32_t>(i));
+    range = KeyRange{keys.data(), dims, ids.size(), {}, {}};
     auto tree = std::make_unique<Tree>(dims, range, nanoflann::KDTreeSingleIndexAdaptorParams(16));
     tree->buildIndex();
-    // Re-lay the keys in the tree's order and make its permutation the identity.
-    range.leaf.resize(range.size * dims);
-    range.ids.resize(range.size);
-    for (std::size_t j = 0; j < range.size; ++j) {
+    range.leaf.resize(keys.size());
+    range.ids.resize(ids.size());
+    for (std::size_t j = 0; j < ids.size(); ++j) {
       const std::size_t i = tree->vAcc[j];
-      std::copy_n(&keys[(first + i) * dims], dims, &range.leaf[j * dims]);
-      range.ids[j] = static_cast<std::uint32_t>(first + i);
+      std::copy_n(&keys[i * dims], dims, &range.leaf[j * dims]);
+      range.ids[j] = ids[i];
       tree->vAcc[j] = static_cast<std::uint32_t>(j);
     }
     range.data = range.leaf.data();
+    tail.clear();
+    tail.shrink_to_fit();
+    tail_first = count;
     return tree;
   }
-  std::size_t tail_first() const { return second_range.first + second_range.size; }
   void added() {
-    if (count - tail_first() < kTail) return;
+    if (count - tail_first < kTail) return;
     if (count - main_range.size > std::max(kTail, main_range.size / 2)) {
-      main = build(main_range, 0, count);
-      second = build(second_range, count, count);
+      main = build(main_range, {&main_range, &second_range});
+      second.reset();
     } else {
-      second = build(second_range, main_range.size, count);
+      second = build(second_range, {&second_range});
+    }
+  }
+  // Every place's key with its id, in storage order (the brute-force path).
+  template <class F>
+  void for_each_key(F&& f) const {
+    for (const KeyRange* r : {&main_range, &second_range}) {
+      for (std::size_t j = 0; j < r->ids.size(); ++j) f(&r->leaf[j * dims], r->ids[j]);
+    }
+    for (std::size_t i = tail_first; i < count; ++i) {
+      f(&tail[(i - tail_first) * dims], static_cast<std::uint32_t>(i));
     }
   }
 };
@@ -132,11 +156,7 @@ KeyIndex::~KeyIndex() = default;
 
 void KeyIndex::add(const float* key) {
   Impl& k = *impl_;
-  if (k.keys.capacity() == k.keys.size()) {
-    // Built trees read their own copies of the keys: growing the vector is safe.
-    k.keys.reserve(std::max<std::size_t>(1024, k.keys.size() * 2));
-  }
-  k.keys.insert(k.keys.end(), key, key + k.dims);
+  k.tail.insert(k.tail.end(), key, key + k.dims);
   ++k.count;
   k.added();
 }
@@ -150,23 +170,24 @@ void KeyIndex::nearest(const float* key, std::size_t count,
   out.clear();
   const Impl& k = *impl_;
   if (count == 0 || k.count == 0) return;
-  auto dist = [&](std::size_t i) {
+  auto dist = [&](const float* x) {
     float d = 0;
     for (int t = 0; t < k.dims; ++t) {
-      const float e = key[t] - k.keys[i * k.dims + t];
+      const float e = key[t] - x[t];
       d += e * e;
     }
     return d;
   };
   // A large share of the places (pool searches) prunes little in a tree: one pass over the
-  // contiguous keys and a selection is faster there, and gives the same answer.
+  // keys and a selection is faster there, and gives the same answer.
   if (count * kScanShare >= k.count) {
-    // Distances first (no calls in the loop), then a bounded max-heap that asks `eligible`
-    // only for places closer than the current k-th.
-    std::vector<float> d(k.count);
-    for (std::size_t i = 0; i < k.count; ++i) d[i] = dist(i);
+    // Distances first (no calls in the loop), then the result set, which asks `eligible` only
+    // for places closer than its bound.
+    std::vector<std::pair<float, std::uint32_t>> d;
+    d.reserve(k.count);
+    k.for_each_key([&](const float* x, std::uint32_t id) { d.emplace_back(dist(x), id); });
     EligibleKnn best(count, eligible);
-    for (std::size_t i = 0; i < k.count; ++i) best.addPoint(d[i], static_cast<std::uint32_t>(i));
+    for (const auto& [di, id] : d) best.addPoint(di, id);
     out.swap(best.sorted_items());
     return;
   }
@@ -176,17 +197,17 @@ void KeyIndex::nearest(const float* key, std::size_t count,
   result.set_ids(k.second_range.ids.data());
   if (k.second) k.second->findNeighbors(result, key, nanoflann::SearchParams());
   result.set_ids(nullptr);
-  for (std::size_t i = k.tail_first(); i < k.count; ++i) {
-    result.addPoint(dist(i), static_cast<std::uint32_t>(i));
+  for (std::size_t i = k.tail_first; i < k.count; ++i) {
+    result.addPoint(dist(&k.tail[(i - k.tail_first) * k.dims]), static_cast<std::uint32_t>(i));
   }
   out.swap(result.sorted_items());
 }
 
 std::size_t KeyIndex::memory_bytes() const {
-  // The keys, the trees' copies in leaf order with their place ids, the trees' permutations
-  // (uint32 a place) and about one node per leaf of 16 points.
+  // The keys (in the trees, in leaf order, with their place ids; the tail), the trees'
+  // permutations (uint32 a place) and about one node per leaf of 16 points.
   const Impl& k = *impl_;
-  std::size_t bytes = k.keys.capacity() * sizeof(float);
+  std::size_t bytes = k.tail.capacity() * sizeof(float);
   for (const KeyRange* r : {&k.main_range, &k.second_range}) {
     bytes += r->leaf.capacity() * sizeof(float) + r->ids.capacity() * 2 * sizeof(std::uint32_t);
   }
