@@ -17,6 +17,7 @@
 
 #include "loopscan/core/database/database.hpp"
 #include "loopscan/sim/simulated_places.hpp"
+#include "perturbed_signature.hpp"
 
 namespace loopscan {
 namespace {
@@ -35,30 +36,6 @@ const Sessions& sessions(Method m) {
     it = cache.emplace(m, std::move(s)).first;
   }
   return it->second;
-}
-
-Signature perturbed(Method m, const Signature& s, std::mt19937& rng) {
-  std::normal_distribution<double> n01(0.0, 1.0);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Signature out = s;
-  for (Eigen::Index i = 0; i < out.size(); ++i) {
-    if (out(i) == 0) continue;
-    out(i) = u(rng) < 0.1 ? 0.0 : out(i) * (1.0 + 0.1 * n01(rng));
-    if (m == Method::ScanContext && i >= out.size() / 2) out(i) = out(i) != 0 ? 1.0 : 0.0;
-  }
-  if (m == Method::ScanContext) {  // roll the sectors: a different heading
-    const int R = 20, S = 60, shift = static_cast<int>(u(rng) * S);
-    Signature rolled = out;
-    for (int h = 0; h < 2; ++h) {
-      for (int sct = 0; sct < S; ++sct) {
-        for (int r = 0; r < R; ++r) {
-          rolled(0, h * R * S + ((sct + shift) % S) * R + r) = out(0, h * R * S + sct * R + r);
-        }
-      }
-    }
-    out = rolled;
-  }
-  return out;
 }
 
 struct Built {
@@ -84,7 +61,7 @@ Built& built(Method m, std::size_t n) {
     if (i < base.places.size()) {
       b.db->add({0, static_cast<int>(i)}, base.places[j]);
     } else {
-      b.db->add({0, static_cast<int>(i)}, {perturbed(m, base.places[j].signature, rng)});
+      b.db->add({0, static_cast<int>(i)}, {bench::perturbed(m, base.places[j].signature, rng)});
     }
   }
   b.bytes_per_place = double(mallinfo2().uordblks - heap0) / double(n);

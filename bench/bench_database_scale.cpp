@@ -22,6 +22,7 @@
 
 #include "loopscan/core/database/database.hpp"
 #include "loopscan/sim/simulated_places.hpp"
+#include "perturbed_signature.hpp"
 #include "scan_context_tree.hpp"
 
 namespace loopscan {
@@ -36,27 +37,6 @@ std::vector<long> numbers(const std::string& s) {
   std::stringstream in(s);
   for (std::string item; std::getline(in, item, ',');) out.push_back(std::stol(item));
   return out;
-}
-
-Signature perturbed(const Signature& s, std::mt19937& rng) {
-  std::normal_distribution<double> n01(0.0, 1.0);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Signature out = s.topRows(1);
-  for (Eigen::Index i = 0; i < out.size(); ++i) {
-    if (out(i) == 0) continue;
-    out(i) = u(rng) < 0.1 ? 0.0 : out(i) * (1.0 + 0.1 * n01(rng));
-    if (i >= out.size() / 2) out(i) = out(i) != 0 ? 1.0 : 0.0;
-  }
-  const int R = 20, S = 60, shift = static_cast<int>(u(rng) * S);
-  Signature rolled = out;
-  for (int h = 0; h < 2; ++h) {
-    for (int sct = 0; sct < S; ++sct) {
-      for (int r = 0; r < R; ++r) {
-        rolled(0, h * R * S + ((sct + shift) % S) * R + r) = out(0, h * R * S + sct * R + r);
-      }
-    }
-  }
-  return rolled;
 }
 
 struct Base {
@@ -124,7 +104,9 @@ void run_map(const std::string& kind, const Options& opt, const sim::Trajectory&
       const std::size_t i = db.size(), j = i % base.places.size();
       PlaceDescriptor d = base.places[j];
       d.signature =
-          i < base.places.size() ? Signature(d.signature.topRows(1)) : perturbed(d.signature, rng);
+          i < base.places.size()
+              ? Signature(d.signature.topRows(1))
+              : bench::perturbed(Method::ScanContext, Signature(d.signature.topRows(1)), rng);
       double t0 = now_s();
       db.add({0, static_cast<int>(i)}, d);
       build_s += now_s() - t0;
