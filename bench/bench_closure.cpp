@@ -39,8 +39,8 @@ const Places& places() {
     CameraPoints in;
     std::vector<Eigen::Vector3f> raw;
     Cloud scan;
-    for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
-      if (!im.next_scan(k, p, n, false, ScanFilter::Cartesian, scan)) return;
+    for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* pts, std::size_t n) {
+      if (!im.next_scan(k, pts, n, false, ScanFilter::Cartesian, scan)) return;
       im.last_in_range(raw);
       x.ids.push_back(k.id);
       x.voxel.push_back(closure::voxel_cloud(raw));
