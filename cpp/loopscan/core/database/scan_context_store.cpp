@@ -1,10 +1,11 @@
 // Scan Context places: packed spectra (scan_context_spectra.hpp) followed by a quantised
 // spectral key. Retrieval has two index stages before exact scoring:
-//  1. a KD-tree over Scan Context's ring key (per ring the sector sum of the normalised
-//     structure half, i.e. each ring's DC term), summed over pairs of rings (10-D);
-//  2. the KD-tree's candidates re-ranked by a richer rotation-invariant key: for both halves
-//     and every ring, the DC term and the magnitudes of the two lowest harmonics (120-D).
-// The 120-D key is stored quantised (uint16) after the spectra, ring key first; the tree keeps
+//  1. the nearest places by Scan Context's ring key (per ring the sector sum of the normalised
+//     structure half, i.e. each ring's DC term), summed over pairs of rings (10-D), found for
+//     every query version in one pass over the keys (key_scan.hpp);
+//  2. those candidates re-ranked by a richer rotation-invariant key: for both halves and
+//     every ring, the DC term and the magnitudes of the two lowest harmonics (120-D).
+// The 120-D key is stored quantised (uint16) after the spectra, ring key first; the scan keeps
 // its own contiguous copy of the 10-D key. With PlaceStorage::Compact the spectra are stored
 // as bytes (compact_spectra.hpp) and expanded before scoring.
 // On the simulated city the ring key alone puts the exact best place among 50 candidates for
@@ -15,7 +16,7 @@
 #include <cstring>
 
 #include "loopscan/core/database/compact_spectra.hpp"
-#include "loopscan/core/database/key_index.hpp"
+#include "loopscan/core/database/key_scan.hpp"
 #include "loopscan/core/database/place_store.hpp"
 #include "loopscan/core/simd.hpp"
 
@@ -135,17 +136,22 @@ class ScanContextStore final : public PlaceStore {
 
   void candidates(const Query& query, std::size_t count, std::size_t pool, const Eligible& eligible,
                   std::size_t, std::vector<std::size_t>& out) const override {
-    // Each version's tree candidates re-ranked by its spectral key; the union of every
+    // Each version's nearest ring keys re-ranked by its spectral key; the union of every
     // version's best `count` (a lateral version's own best places must not be crowded out by
     // the centred one's near misses, nor the other way round).
     out.clear();
     const auto& sq = static_cast<const SpectraQuery&>(query);
     std::vector<std::pair<std::size_t, std::uint32_t>> proposals;  // place, version bit
-    std::vector<std::pair<float, std::size_t>> near;
+    std::vector<std::vector<std::pair<float, std::size_t>>> pools;
     std::vector<std::pair<std::int64_t, std::size_t>> ranked;
+    std::vector<float> ring_keys;
+    for (const Keys& k : sq.keys)
+      ring_keys.insert(ring_keys.end(), k.ring_key.begin(), k.ring_key.end());
+    index_.nearest(ring_keys.data(), static_cast<int>(sq.keys.size()), std::max(count, pool),
+                   eligible, pools);
     for (std::size_t v = 0; v < sq.keys.size(); ++v) {
       const Keys& q = sq.keys[v];
-      index_.nearest(q.ring_key.data(), std::max(count, pool), eligible, near);
+      const auto& near = pools[v];
       ranked.clear();
       static const auto key_distance = simd::has_avx2() ? key_distance_avx2 : key_distance_base;
       const std::size_t dims = q.key.size();
@@ -278,7 +284,7 @@ class ScanContextStore final : public PlaceStore {
   CompactSpectraShape shape_;
   std::size_t key_dims_;
   PayloadArena keys_;  // quantised spectral keys, ring key first (uint16 pairs in floats)
-  KeyIndex index_;
+  KeyScan index_;      // the tree keys (10-D), searched by one pass for all versions
 };
 
 }  // namespace
