@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "loopscan/core/matching/scan_context_pair_kernel.hpp"
+#include "loopscan/core/matching/scaled_accumulate.hpp"
 
 namespace loopscan {
 namespace {
@@ -76,8 +77,7 @@ void ScanContextSpectra::pack(const Signature& place, float* out) const {
       for (int s = 0; s < S; ++s) {
         const float v = static_cast<float>(x[s * R + r] * scale);  // layout: sector * R + ring
         if (v == 0.f) continue;
-        const float* row = &forward_[static_cast<std::size_t>(s) * S];
-        for (int k = 0; k < S; ++k) packed[k] += v * row[k];
+        scaled_accumulate(packed, &forward_[static_cast<std::size_t>(s) * S], v, S);
       }
     }
   }
