@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <random>
 
 #include "loopscan/core/database/compact_spectra.hpp"
@@ -36,6 +38,24 @@ TEST(CompactSpectra, RoundTripIsWithinHalfAStepAndEmptyRowsStayZero) {
       }
     }
     for (int k = 60; k < 120; ++k) EXPECT_EQ(back[k], 0.f);
+  }
+}
+
+// Every SIMD width expands a value to exactly scale x byte (sectors not a multiple of 16 too).
+TEST(CompactSpectra, ExpansionIsScaleTimesByteBitForBit) {
+  std::mt19937 rng(2);
+  std::normal_distribution<float> g;
+  for (int sectors : {2, 10, 16, 20, 60, 62}) {
+    const CompactSpectraShape shape{5, sectors};
+    std::vector<float> packed(shape.packed_floats()), compact(shape.floats()), back(packed.size());
+    for (float& v : packed) v = g(rng);
+    compress_spectra(shape, packed.data(), compact.data());
+    expand_spectra(shape, compact.data(), back.data());
+    const auto* bytes = reinterpret_cast<const std::int8_t*>(compact.data() + shape.rows);
+    for (std::size_t i = 0; i < back.size(); ++i) {
+      const float want = compact[i / sectors] * static_cast<float>(bytes[i]);
+      ASSERT_EQ(std::memcmp(&back[i], &want, sizeof want), 0) << "sectors " << sectors << " " << i;
+    }
   }
 }
 
