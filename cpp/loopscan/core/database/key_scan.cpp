@@ -1,182 +1,253 @@
 #include "loopscan/core/database/key_scan.hpp"
 
 #include <algorithm>
-#include <cstdint>
-#include <limits>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <string>
 
-#include "loopscan/core/simd.hpp"
-
-#if LOOPSCAN_HAVE_AVX2_CLONES
-#include <immintrin.h>
-#endif
+#include "loopscan/core/database/key_scan_nearest.hpp"
 
 namespace loopscan {
 namespace {
 
+using key_scan::BlockRef;
 constexpr int B = KeyScan::kBlock;
+constexpr std::uint32_t kBlocksPerChunk = 16;  // 256 places: small maps stay small
+constexpr int kTrainingRounds = 8;
+constexpr std::size_t kSamplePerCell = 64;
 
-// The `count` nearest eligible places of one query key: candidates closer than the bound are
-// appended and the buffer is cut back to the `count` best whenever it holds 2 count (amortised
-// O(1) a place; a heap costs O(log count) each).
-class Nearest {
- public:
-  Nearest(std::size_t count, const std::function<bool(std::size_t)>& eligible)
-      : count_(count), eligible_(&eligible) {
-    items_.reserve(2 * count + 1);
-  }
-  float bound() const { return bound_; }
-  void add(float dist, std::size_t index) {
-    if (dist > bound_ || !(*eligible_)(index)) return;
-    items_.emplace_back(dist, index);
-    if (items_.size() == count_) {
-      bound_ = std::max_element(items_.begin(), items_.end())->first;
-    } else if (items_.size() >= 2 * count_) {
-      cut();
-    }
-  }
-  void finish(std::vector<std::pair<float, std::size_t>>& out) {
-    if (items_.size() > count_) cut();
-    std::sort(items_.begin(), items_.end());
-    out.swap(items_);
-  }
+std::uint32_t valid_lanes(int lanes) { return lanes >= 32 ? ~0u : (1u << lanes) - 1u; }
 
- private:
-  void cut() {
-    std::nth_element(items_.begin(), items_.begin() + (count_ - 1), items_.end());
-    items_.resize(count_);
-    bound_ = items_.back().first;  // the count-th distance: nth_element put it last
-  }
-  std::size_t count_;
-  float bound_ = std::numeric_limits<float>::max();
-  const std::function<bool(std::size_t)>* eligible_;
-  std::vector<std::pair<float, std::size_t>> items_;
-};
+std::uint16_t clamped(std::uint16_t v) { return std::min(v, KeyScan::kMaxKey); }
 
-// The distances of one block's 16 places to query key q, lane by lane as distance() does.
-void block_distances_base(const float* block, const float* q, int dims, float* out) {
-  for (int l = 0; l < B; ++l) out[l] = 0.f;
-  for (int d = 0; d < dims; ++d) {
-    for (int l = 0; l < B; ++l) {
-      const float e = block[d * B + l] - q[d];
-      out[l] += e * e;
-    }
-  }
+// About sqrt(n)/2 cells (a power of two, at least 16): cells of ~2 sqrt(n) keys.
+std::size_t cells_for(std::size_t n) {
+  std::size_t c = 16;
+  while (c * c < n / 4) c *= 2;
+  return c;
 }
-
-void scan_base(const float* blocks, std::size_t n_blocks, int dims, const float* queries,
-               int n_queries, std::vector<Nearest>& sinks) {
-  float dist[B];
-  for (std::size_t b = 0; b < n_blocks; ++b) {
-    const float* block = blocks + b * dims * B;
-    for (int v = 0; v < n_queries; ++v) {
-      block_distances_base(block, queries + v * dims, dims, dist);
-      for (int l = 0; l < B; ++l) {
-        if (dist[l] <= sinks[v].bound()) sinks[v].add(dist[l], b * B + l);
-      }
-    }
-  }
-}
-
-#if LOOPSCAN_HAVE_AVX2_CLONES
-LOOPSCAN_AVX2 void scan_avx2(const float* blocks, std::size_t n_blocks, int dims,
-                             const float* queries, int n_queries, std::vector<Nearest>& sinks) {
-  alignas(32) float dist[B];
-  for (std::size_t b = 0; b < n_blocks; ++b) {
-    const float* block = blocks + b * dims * B;
-    for (int v = 0; v < n_queries; ++v) {
-      const float* q = queries + v * dims;
-      __m256 lo = _mm256_setzero_ps(), hi = _mm256_setzero_ps();
-      for (int d = 0; d < dims; ++d) {
-        const __m256 qd = _mm256_set1_ps(q[d]);
-        const __m256 e0 = _mm256_sub_ps(_mm256_loadu_ps(block + d * B), qd);
-        const __m256 e1 = _mm256_sub_ps(_mm256_loadu_ps(block + d * B + 8), qd);
-        lo = _mm256_add_ps(lo, _mm256_mul_ps(e0, e0));
-        hi = _mm256_add_ps(hi, _mm256_mul_ps(e1, e1));
-      }
-      const __m256 bound = _mm256_set1_ps(sinks[v].bound());
-      unsigned mask =
-          static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(lo, bound, _CMP_LE_OQ)) |
-                                _mm256_movemask_ps(_mm256_cmp_ps(hi, bound, _CMP_LE_OQ)) << 8);
-      if (!mask) continue;
-      _mm256_store_ps(dist, lo);
-      _mm256_store_ps(dist + 8, hi);
-      for (; mask; mask &= mask - 1) {
-        const int l = __builtin_ctz(mask);
-        sinks[v].add(dist[l], b * B + l);
-      }
-    }
-  }
-}
-
-LOOPSCAN_AVX512 void scan_avx512(const float* blocks, std::size_t n_blocks, int dims,
-                                 const float* queries, int n_queries, std::vector<Nearest>& sinks) {
-  alignas(64) float dist[B];
-  for (std::size_t b = 0; b < n_blocks; ++b) {
-    const float* block = blocks + b * dims * B;
-    for (int v = 0; v < n_queries; ++v) {
-      const float* q = queries + v * dims;
-      __m512 acc = _mm512_setzero_ps();
-      for (int d = 0; d < dims; ++d) {
-        const __m512 e = _mm512_sub_ps(_mm512_loadu_ps(block + d * B), _mm512_set1_ps(q[d]));
-        acc = _mm512_add_ps(acc, _mm512_mul_ps(e, e));
-      }
-      unsigned mask = _mm512_cmp_ps_mask(acc, _mm512_set1_ps(sinks[v].bound()), _CMP_LE_OQ);
-      if (!mask) continue;
-      _mm512_store_ps(dist, acc);
-      for (; mask; mask &= mask - 1) {
-        const int l = __builtin_ctz(mask);
-        sinks[v].add(dist[l], b * B + l);
-      }
-    }
-  }
-}
-#endif
 
 }  // namespace
 
-KeyScan::KeyScan(int dims) : dims_(dims) {}
-
-void KeyScan::add(const float* key) {
-  const std::size_t lane = count_ % B;
-  if (lane == 0) {
-    blocks_.resize(blocks_.size() + static_cast<std::size_t>(dims_) * B,
-                   std::numeric_limits<float>::infinity());
+KeyScan::KeyScan(int dims, const KeyScanConfig& config)
+    : dims_(dims),
+      pairs_((dims + 1) / 2),
+      config_(config),
+      next_training_(std::max<std::size_t>(1, config.cells_from)) {
+  if (dims < 1 || dims > kMaxDims) {
+    throw std::invalid_argument("KeyScan: keys need 1.." + std::to_string(kMaxDims) +
+                                " dimensions, got " + std::to_string(dims));
   }
-  float* block = blocks_.data() + blocks_.size() - static_cast<std::size_t>(dims_) * B;
-  for (int d = 0; d < dims_; ++d) block[d * B + lane] = key[d];
-  ++count_;
+  cells_.resize(1);
+  order_.resize(dims);
+  std::iota(order_.begin(), order_.end(), 0);
+}
+KeyScan::~KeyScan() = default;
+
+std::uint16_t* KeyScan::block_keys(std::uint32_t b) const {
+  return key_chunks_[b / kBlocksPerChunk].get() +
+         static_cast<std::size_t>(b % kBlocksPerChunk) * pairs_ * B * 2;
+}
+std::uint32_t* KeyScan::block_ids(std::uint32_t b) const {
+  return id_chunks_[b / kBlocksPerChunk].get() + static_cast<std::size_t>(b % kBlocksPerChunk) * B;
+}
+BlockRef KeyScan::ref(const Cell& cell, std::size_t j) const {
+  const int lanes = j + 1 == cell.blocks.size() ? cell.fill : B;
+  return {block_keys(cell.blocks[j]), block_ids(cell.blocks[j]), valid_lanes(lanes)};
 }
 
-float KeyScan::distance(const float* a, const float* b, int dims) {
-  float s = 0.f;
+void KeyScan::place(std::uint32_t c, const std::uint16_t* key, std::uint32_t id) {
+  Cell& cell = cells_[c];
+  if (cell.blocks.empty() || cell.fill == B) {
+    if (n_blocks_ % kBlocksPerChunk == 0) {
+      key_chunks_.emplace_back(new std::uint16_t[kBlocksPerChunk * pairs_ * B * 2]());
+      id_chunks_.emplace_back(new std::uint32_t[kBlocksPerChunk * B]());
+    }
+    cell.blocks.push_back(n_blocks_++);
+    cell.fill = 0;
+  }
+  std::uint16_t* keys = block_keys(cell.blocks.back());
+  for (int j = 0; j < dims_; ++j) {
+    keys[((j / 2) * B + cell.fill) * 2 + j % 2] = clamped(key[order_[j]]);
+  }
+  block_ids(cell.blocks.back())[cell.fill] = id;
+  ++cell.fill;
+}
+
+void KeyScan::set_centres(std::vector<float> centres) {
+  centres_ = std::move(centres);
+  const std::size_t n = centres_.size() / dims_, n_blocks = (n + B - 1) / B;
+  centre_keys_.assign(n_blocks * dims_ * B, 0.f);
+  centre_refs_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int d = 0; d < dims_; ++d) {
+      centre_keys_[(i / B) * dims_ * B + d * B + i % B] = centres_[i * dims_ + d];
+    }
+  }
+  for (std::size_t b = 0; b < n_blocks; ++b) {
+    const int lanes = static_cast<int>(std::min<std::size_t>(B, n - b * B));
+    centre_refs_.push_back({&centre_keys_[b * dims_ * B], valid_lanes(lanes)});
+  }
+}
+
+void KeyScan::centre_distances(const float* key, float* out) const {
+  key_scan::scan_float(centre_refs_.data(), centre_refs_.size(), dims_, key, out);
+}
+
+std::uint32_t KeyScan::nearest_cell(const float* key) const {
+  if (centres_.empty()) return 0;
+  thread_local std::vector<float> d;
+  d.resize(centre_refs_.size() * B);
+  centre_distances(key, d.data());
+  return static_cast<std::uint32_t>(std::min_element(d.begin(), d.begin() + cells_.size()) -
+                                    d.begin());  // the first of equals
+}
+
+void KeyScan::add(const std::uint16_t* key) {
+  std::uint32_t cell = 0;
+  if (!centres_.empty()) {
+    float k[kMaxDims];
+    for (int d = 0; d < dims_; ++d) k[d] = clamped(key[d]);
+    cell = nearest_cell(k);
+  }
+  place(cell, key, static_cast<std::uint32_t>(count_));
+  ++count_;
+  if (count_ == next_layout_ || count_ == next_training_) lay_out();
+}
+
+void KeyScan::lay_out() {
+  // Every key in id order.
+  std::vector<std::uint16_t> all(count_ * dims_);
+  for (const Cell& cell : cells_) {
+    for (std::size_t j = 0; j < cell.blocks.size(); ++j) {
+      const BlockRef r = ref(cell, j);
+      for (int l = 0; l < B; ++l) {
+        if (!(r.valid >> l & 1u)) continue;
+        for (int t = 0; t < dims_; ++t) {
+          all[r.ids[l] * std::size_t(dims_) + order_[t]] = r.keys[((t / 2) * B + l) * 2 + t % 2];
+        }
+      }
+    }
+  }
+  // Dimensions by decreasing variance, so the first pairs already set most places apart and
+  // a block is left after a few of them (distances are exact sums: the order changes no bits).
+  std::vector<double> mean(dims_, 0.0), var(dims_, 0.0);
+  for (std::size_t i = 0; i < count_; ++i) {
+    for (int t = 0; t < dims_; ++t) mean[t] += all[i * dims_ + t];
+  }
+  for (double& m : mean) m /= double(count_);
+  for (std::size_t i = 0; i < count_; ++i) {
+    for (int t = 0; t < dims_; ++t) var[t] += std::pow(all[i * dims_ + t] - mean[t], 2);
+  }
+  std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return var[a] > var[b]; });
+  if (count_ >= config_.cells_from) train(all);
+  key_chunks_.clear();
+  id_chunks_.clear();
+  n_blocks_ = 0;
+  for (Cell& c : cells_) c = Cell{};
+  std::vector<float> key(dims_);
+  for (std::size_t i = 0; i < count_; ++i) {
+    std::copy_n(&all[i * dims_], dims_, key.data());
+    place(nearest_cell(key.data()), &all[i * dims_], static_cast<std::uint32_t>(i));
+  }
+  while (next_layout_ <= count_) next_layout_ *= 4;
+  while (next_training_ <= count_) next_training_ *= 4;
+}
+
+void KeyScan::train(const std::vector<std::uint16_t>& all) {
+  const std::vector<float> keys(all.begin(), all.end());
+  // Lloyd's k-means on an evenly spread sample, seeded with evenly spread sample keys
+  // (deterministic); a cell left empty keeps its centre.
+  const std::size_t C = cells_for(count_);
+  const std::size_t step = std::max<std::size_t>(1, count_ / (kSamplePerCell * C));
+  std::vector<std::size_t> sample;
+  for (std::size_t i = 0; i < count_; i += step) sample.push_back(i);
+  std::vector<float> centres(C * dims_);
+  for (std::size_t c = 0; c < C; ++c) {
+    std::copy_n(&keys[sample[c * sample.size() / C] * dims_], dims_, &centres[c * dims_]);
+  }
+  cells_.assign(C, Cell{});  // nearest_cell() reads the count of cells
+  for (int round = 0; round < kTrainingRounds; ++round) {
+    set_centres(centres);
+    std::vector<double> sums(C * dims_, 0.0);
+    std::vector<std::size_t> sizes(C, 0);
+    for (std::size_t i : sample) {
+      const std::size_t c = nearest_cell(&keys[i * dims_]);
+      ++sizes[c];
+      for (int t = 0; t < dims_; ++t) sums[c * dims_ + t] += keys[i * dims_ + t];
+    }
+    for (std::size_t c = 0; c < C; ++c) {
+      if (sizes[c] == 0) continue;
+      for (int t = 0; t < dims_; ++t) {
+        centres[c * dims_ + t] = static_cast<float>(sums[c * dims_ + t] / double(sizes[c]));
+      }
+    }
+  }
+  set_centres(std::move(centres));
+}
+
+std::uint32_t KeyScan::distance(const std::uint16_t* a, const std::uint16_t* b, int dims) {
+  std::uint32_t s = 0;
   for (int d = 0; d < dims; ++d) {
-    const float e = a[d] - b[d];
-    s += e * e;
+    const int e = int(clamped(a[d])) - int(clamped(b[d]));
+    s += static_cast<std::uint32_t>(e * e);
   }
   return s;
 }
 
-void KeyScan::nearest(const float* queries, int n_queries, std::size_t count,
+void KeyScan::nearest(const std::uint16_t* queries, int n_queries, std::size_t count,
                       const std::function<bool(std::size_t)>& eligible,
-                      std::vector<std::vector<std::pair<float, std::size_t>>>& out) const {
+                      std::vector<Neighbours>& out) const {
   out.resize(static_cast<std::size_t>(std::max(0, n_queries)));
   for (auto& o : out) o.clear();
   if (count == 0 || count_ == 0 || n_queries <= 0) return;
-  std::vector<Nearest> sinks;
+  // Queries in dimension pairs, as the blocks hold them.
+  std::vector<std::uint32_t> packed(static_cast<std::size_t>(n_queries) * pairs_, 0u);
+  for (int v = 0; v < n_queries; ++v) {
+    for (int d = 0; d < dims_; ++d) {
+      packed[v * pairs_ + d / 2] |= std::uint32_t{clamped(queries[v * dims_ + order_[d]])}
+                                    << 16 * (d % 2);
+    }
+  }
+  std::vector<key_scan::Nearest> sinks;
   sinks.reserve(static_cast<std::size_t>(n_queries));
   for (int v = 0; v < n_queries; ++v) sinks.emplace_back(count, eligible);
-  const std::size_t n_blocks = (count_ + B - 1) / B;
-#if LOOPSCAN_HAVE_AVX2_CLONES
-  if (simd::has_avx512()) {
-    scan_avx512(blocks_.data(), n_blocks, dims_, queries, n_queries, sinks);
-  } else if (simd::has_avx2()) {
-    scan_avx2(blocks_.data(), n_blocks, dims_, queries, n_queries, sinks);
-  } else
-#endif
-  {
-    scan_base(blocks_.data(), n_blocks, dims_, queries, n_queries, sinks);
+  std::vector<BlockRef> refs;
+  auto add_cell = [&](const Cell& cell) {
+    for (std::size_t j = 0; j < cell.blocks.size(); ++j) refs.push_back(ref(cell, j));
+  };
+  if (cells_.size() == 1) {  // every key, every query key in one pass
+    add_cell(cells_[0]);
+    key_scan::scan(refs.data(), refs.size(), pairs_, packed.data(), n_queries, sinks.data());
+  } else {
+    // Per query key, its nearest cells until probe_factor x count keys are seen.
+    std::vector<float> d(centre_refs_.size() * B), q(dims_);
+    std::vector<std::pair<float, std::uint32_t>> order(cells_.size());
+    const std::size_t enough = std::max<std::size_t>(1, config_.probe_factor) * count;
+    for (int v = 0; v < n_queries; ++v) {
+      for (int t = 0; t < dims_; ++t) q[t] = clamped(queries[v * dims_ + t]);
+      centre_distances(q.data(), d.data());
+      for (std::uint32_t c = 0; c < cells_.size(); ++c) order[c] = {d[c], c};
+      std::sort(order.begin(), order.end());
+      refs.clear();
+      std::size_t seen = 0;
+      for (const auto& [dist, c] : order) {
+        if (seen >= enough) break;
+        add_cell(cells_[c]);
+        if (!cells_[c].blocks.empty()) seen += (cells_[c].blocks.size() - 1) * B + cells_[c].fill;
+      }
+      key_scan::scan(refs.data(), refs.size(), pairs_, &packed[v * pairs_], 1, &sinks[v]);
+    }
   }
   for (int v = 0; v < n_queries; ++v) sinks[v].finish(out[v]);
+}
+
+std::size_t KeyScan::memory_bytes() const {
+  std::size_t bytes = key_chunks_.size() * kBlocksPerChunk * B * (pairs_ * 4 + 4);
+  for (const Cell& c : cells_) bytes += sizeof(Cell) + c.blocks.capacity() * 4;
+  return bytes + (centres_.capacity() + centre_keys_.capacity()) * 4 +
+         centre_refs_.capacity() * sizeof(key_scan::FloatBlockRef);
 }
 
 }  // namespace loopscan

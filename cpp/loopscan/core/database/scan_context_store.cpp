@@ -1,12 +1,13 @@
 // Scan Context places: packed spectra (scan_context_spectra.hpp) followed by a quantised
 // spectral key. Retrieval has two index stages before exact scoring:
-//  1. the nearest places by Scan Context's ring key (per ring the sector sum of the normalised
-//     structure half, i.e. each ring's DC term), summed over pairs of rings (10-D), found for
-//     every query version in one pass over the keys (key_scan.hpp);
+//  1. the nearest places by a coarse key: Scan Context's ring key (per ring the sector sum of
+//     the normalised structure half, i.e. each ring's DC term) and the intensity half's
+//     (2R-D), found for every query version at once (key_scan.hpp: one pass over all keys, or
+//     over the nearest cells of an inverted file from 32k places on);
 //  2. those candidates re-ranked by a richer rotation-invariant key: for both halves and
 //     every ring, the DC term and the magnitudes of the two lowest harmonics (120-D).
 // The 120-D key is stored quantised (uint16) after the spectra, ring key first; the scan keeps
-// its own contiguous copy of the 10-D key. With PlaceStorage::Compact the spectra are stored
+// its own copy of the coarse key. With PlaceStorage::Compact the spectra are stored
 // as bytes (compact_spectra.hpp) and expanded before scoring.
 // On the simulated city the ring key alone puts the exact best place among 50 candidates for
 // ~40% of same-season queries and ~89% across seasons; the two stages reach ~65% and ~99%
@@ -25,7 +26,6 @@ namespace {
 
 constexpr int kKeyFrequencies = 2;
 constexpr float kKeyScale = 8192.f;  // quantisation of the spectral key (see spectral_key)
-constexpr int kRingsPerKey = 2;      // rings summed into one dimension of the tree's key
 
 // Squared distance of two uint16 keys, exact (|d|^2 < 2^32 fits a uint32; the sum a uint64),
 // compiled for AVX2 and for the baseline.
@@ -49,7 +49,7 @@ LOOPSCAN_AVX2 std::uint64_t key_distance_avx2(const std::uint16_t* a, const std:
 class ScanContextStore final : public PlaceStore {
   // Index keys of one query version.
   struct Keys {
-    std::vector<float> ring_key;
+    std::vector<std::uint16_t> coarse;
     std::vector<std::uint16_t> key;
   };
   // One version per signature row (lateral versions, ScanContextConfig); a place is stored by
@@ -70,7 +70,7 @@ class ScanContextStore final : public PlaceStore {
         shape_{2 * config.rings, config.sectors},
         key_dims_(key_dims(config)),
         keys_(key_floats(config)),
-        index_((config.rings + kRingsPerKey - 1) / kRingsPerKey) {}
+        index_(2 * config.rings) {}
 
   int components() const override { return 2; }
 
@@ -106,7 +106,7 @@ class ScanContextStore final : public PlaceStore {
     std::vector<std::uint16_t> key(key_dims_);
     for (std::size_t i = index_.size(); i < n; ++i) {
       std::memcpy(key.data(), keys_.at(i), key_dims_ * 2);
-      index_.add(tree_key(key).data());
+      index_.add(coarse_key(key).data());
     }
   }
 
@@ -116,7 +116,7 @@ class ScanContextStore final : public PlaceStore {
     for (const ScanContextSpectra::Query& v : q->versions) {
       Keys k;
       k.key = spectral_key(v.packed.data());
-      k.ring_key = tree_key(k.key);
+      k.coarse = coarse_key(k.key);
       q->keys.push_back(std::move(k));
     }
     return q;
@@ -142,13 +142,12 @@ class ScanContextStore final : public PlaceStore {
     out.clear();
     const auto& sq = static_cast<const SpectraQuery&>(query);
     std::vector<std::pair<std::size_t, std::uint32_t>> proposals;  // place, version bit
-    std::vector<std::vector<std::pair<float, std::size_t>>> pools;
+    std::vector<KeyScan::Neighbours> pools;
     std::vector<std::pair<std::int64_t, std::size_t>> ranked;
-    std::vector<float> ring_keys;
-    for (const Keys& k : sq.keys)
-      ring_keys.insert(ring_keys.end(), k.ring_key.begin(), k.ring_key.end());
-    index_.nearest(ring_keys.data(), static_cast<int>(sq.keys.size()), std::max(count, pool),
-                   eligible, pools);
+    std::vector<std::uint16_t> coarse;
+    for (const Keys& k : sq.keys) coarse.insert(coarse.end(), k.coarse.begin(), k.coarse.end());
+    index_.nearest(coarse.data(), static_cast<int>(sq.keys.size()), std::max(count, pool), eligible,
+                   pools);
     for (std::size_t v = 0; v < sq.keys.size(); ++v) {
       const Keys& q = sq.keys[v];
       const auto& near = pools[v];
@@ -246,15 +245,16 @@ class ScanContextStore final : public PlaceStore {
     out[0] = (1.0 - double(best[0])) / 2.0;
     out[1] = (1.0 - double(best[1])) / 2.0;
   }
-  // The tree's key: the ring key (the first R values of the spectral key) summed over pairs
-  // of rings, which keeps the tree fast (10-D) and loses nothing measurable after stage 2.
-  std::vector<float> tree_key(const std::vector<std::uint16_t>& key) const {
-    std::vector<float> out;
-    for (int r = 0; r < spectra_.rings(); r += kRingsPerKey) {
-      float sum = 0;
-      for (int t = r; t < std::min(spectra_.rings(), r + kRingsPerKey); ++t) sum += key[t];
-      out.push_back(sum / kKeyScale);
-    }
+  // The coarse key: the DC terms of every ring of both halves (Scan Context's ring key and
+  // its intensity counterpart), taken from the spectral key in steps of 8 / 8192 (13 bits,
+  // KeyScan's range). Summing rings in pairs (a 10-D key, for a KD-tree) lost the exact best
+  // place among near-identical ones; the intensity terms separate places across seasons
+  // (README, "Place database").
+  std::vector<std::uint16_t> coarse_key(const std::vector<std::uint16_t>& key) const {
+    const int R = spectra_.rings(), per_ring = 1 + kKeyFrequencies;
+    std::vector<std::uint16_t> out;
+    for (int r = 0; r < R; ++r) out.push_back(key[r] >> 3);
+    for (int r = 0; r < R; ++r) out.push_back(key[R + (per_ring - 1) * R + per_ring * r] >> 3);
     return out;
   }
   static std::size_t key_floats(const ScanContextConfig& c) { return (key_dims(c) + 1) / 2; }
@@ -284,7 +284,7 @@ class ScanContextStore final : public PlaceStore {
   CompactSpectraShape shape_;
   std::size_t key_dims_;
   PayloadArena keys_;  // quantised spectral keys, ring key first (uint16 pairs in floats)
-  KeyScan index_;      // the tree keys (10-D), searched by one pass for all versions
+  KeyScan index_;      // the coarse keys (2R-D), searched for all versions at once
 };
 
 }  // namespace
