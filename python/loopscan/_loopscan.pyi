@@ -78,7 +78,7 @@ class Database:
             frame: Optional[npt.ArrayLike] = None, pose: Optional[npt.ArrayLike] = None) -> None: ...
     def query(self, signature: npt.ArrayLike, k: int = 1, frame: Optional[npt.ArrayLike] = None,
               retrieval: str = "indexed", candidates: int = 50, index_pool_factor: int = 8,
-              stats_sample: int = 32, refine: int = 8, exclude_recent: int = 0,
+              stats_sample: int = 64, refine: int = 8, exclude_recent: int = 0,
               sessions: Sequence[int] = (),
               max_distance: float = float("inf"), uniqueness_ratio: float = 1.0,
               distinct_gap: int = 50, threads: int = 1,

@@ -60,7 +60,7 @@ struct QueryOptions {
   // Fused scores are z-scores of each half over the row of eligible places (Matlab's
   // normalize, as offline). Exact search has the whole row; indexed search estimates its mean
   // and standard deviation from this many eligible places spread evenly over the database.
-  int stats_sample = 32;
+  int stats_sample = 64;
   int exclude_recent = 0;     // ignore the N places added last (same-session loop closure)
   std::vector<int> sessions;  // only places of these sessions; empty: all
   // Any further rule (insertion index, place) -> may match; empty: all places may.
