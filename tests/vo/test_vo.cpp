@@ -166,6 +166,33 @@ TEST(StereoVo, ExportedPointsLieOnTheSurfacesWhereTheyWereSelected) {
   EXPECT_GT(pixel_ok, 0.9 * checked);
 }
 
+// The points are selected on a worker thread: exactly what select_gradient_points gives on the
+// keyframe's own images, even though the caller overwrites one pair of buffers every frame.
+TEST(StereoVo, ExportedPointsAreTheKeyframeImagesOwnWhenTheCallerReusesItsBuffers) {
+  vo::StereoVo vo(intrinsics());
+  cv::Mat left, right;
+  for (int f = 0; f < 8; ++f) {
+    render(f, 0).copyTo(left);
+    render(f, 1).copyTo(right);
+    vo.process(f, left, right);
+    left.setTo(0);  // at once: the worker is likely still starting
+    right.setTo(0);
+  }
+  vo.finish();
+  ASSERT_GE(vo.finished_keyframes().size(), 3u);
+  for (const vo::FinishedKeyframe& kf : vo.finished_keyframes()) {
+    const std::vector<vo::CameraPoint> expected =
+        vo::select_gradient_points(render(kf.frame, 0), render(kf.frame, 1), intrinsics(), {});
+    ASSERT_EQ(kf.camera_points.size(), expected.size()) << kf.frame;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_EQ(kf.camera_points[i].p_cam, expected[i].p_cam);
+      EXPECT_EQ(kf.camera_points[i].gray, expected[i].gray);
+      EXPECT_EQ(kf.camera_points[i].u, expected[i].u);
+      EXPECT_EQ(kf.camera_points[i].v, expected[i].v);
+    }
+  }
+}
+
 TEST(StereoVo, BlankFramesForceAnExplicitResetAndTrackingResumes) {
   const Drive d = drive(0, 36, {18, 19});
   std::vector<int> resets;

@@ -216,9 +216,14 @@ void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right
     kf.observations.push_back({id, c.x, c.y, c.x - d});
   }
   times_.keyframe += ms_since(t0);
-  t0 = Clock::now();
-  kf.camera_points = select_gradient_points(left, right, camera_, config_);
-  times_.export_points += ms_since(t0);
+  // The exported points need neither poses nor tracks: off the tracking thread, on copies (the
+  // caller may reuse its image buffers once process() returns).
+  kf.camera_points = std::async(std::launch::async, [l = left.clone(), r = right.clone(),
+                                                     camera = camera_, config = config_] {
+    const auto start = Clock::now();
+    std::vector<CameraPoint> points = select_gradient_points(l, r, camera, config);
+    return std::make_pair(std::move(points), ms_since(start));
+  });
   window_.push_back(std::move(kf));
   final_keyframe_poses_.push_back(T);
   t0 = Clock::now();
@@ -230,7 +235,9 @@ void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right
 
 void StereoVo::finish_oldest() {
   Keyframe& kf = window_.front();
-  finished_.push_back({kf.frame, kf.T_world_cam, kf.reset, std::move(kf.camera_points)});
+  auto [points, ms] = kf.camera_points.get();
+  times_.export_points += ms;
+  finished_.push_back({kf.frame, kf.T_world_cam, kf.reset, std::move(points)});
   window_.erase(window_.begin());
 }
 

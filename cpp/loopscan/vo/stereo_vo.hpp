@@ -8,6 +8,7 @@
 //
 // Per keyframe it exports DSO-like points (high-gradient pixels with stereo depth and gray value),
 // expressed in the world frame with the keyframe's final pose when the keyframe leaves the window.
+#include <future>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -39,7 +40,7 @@ struct FinishedKeyframe {
 // The keyframe's exported points in the world frame (id = frame), as SO-DSO writes them.
 std::vector<IdPoint> world_points(const FinishedKeyframe& keyframe);
 
-struct StageTimes {  // accumulated milliseconds
+struct StageTimes {  // accumulated milliseconds; export_points runs on a worker thread
   double track = 0, pose = 0, keyframe = 0, bundle_adjustment = 0, export_points = 0;
 };
 
@@ -70,7 +71,9 @@ class StereoVo {
     bool reset;
     int index;  // among all keyframes
     std::vector<Observation> observations;
-    std::vector<CameraPoint> camera_points;
+    // Selected on a worker thread from the keyframe's own copy of its images (a pure function
+    // of them, so the result does not depend on timing); collected when the keyframe leaves.
+    std::future<std::pair<std::vector<CameraPoint>, double>> camera_points;  // points, ms
   };
   struct Track {
     int point;
