@@ -3,6 +3,7 @@
 // frames are absent. On demand.
 //   BM_VoRealFrames: the VO alone on the pairs read beforehand; process CPU time per frame and
 //     ms per stage (counters), the cost on whatever threads the VO uses.
+//   BM_VoRealFramesTrackingThread: the same, CPU time of the calling thread only.
 //   BM_VoRealSequence: run_stereo_vo from disk, the PNGs read on the second thread as `loopscan
 //     vo` does; wall time, frames per second.
 #include <cstdlib>
@@ -64,7 +65,9 @@ void BM_VoRealFrames(benchmark::State& state) {
   const Pairs& p = pairs();  // read before the timing starts
   const double n = static_cast<double>(p.left.size());
   for (auto _ : state) {
-    vo::StereoVo odometry(p.camera);
+    vo::VoConfig config;
+    config.ba_on_worker = state.range(0) == 1;
+    vo::StereoVo odometry(p.camera, config);
     for (std::size_t i = 0; i < p.left.size(); ++i)
       benchmark::DoNotOptimize(odometry.process(static_cast<int>(i), p.left[i], p.right[i]));
     odometry.finish();
@@ -74,7 +77,14 @@ void BM_VoRealFrames(benchmark::State& state) {
       static_cast<double>(state.iterations()) * n,
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert, benchmark::Counter::OneK::kIs1000);
 }
-BENCHMARK(BM_VoRealFrames)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+// Arg: VoConfig::ba_on_worker (1, the default; 0 applies each adjustment at once).
+BENCHMARK(BM_VoRealFrames)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime();
+// CPU time of the calling (tracking) thread only: the work the workers do not take off it.
+BENCHMARK(BM_VoRealFrames)
+    ->Name("BM_VoRealFramesTrackingThread")
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMillisecond);
 
 void BM_VoRealSequence(benchmark::State& state) {
   if (!have_frames(state)) return;

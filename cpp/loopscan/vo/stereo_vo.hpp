@@ -9,6 +9,8 @@
 // Per keyframe it exports DSO-like points (high-gradient pixels with stereo depth and gray value),
 // expressed in the world frame with the keyframe's final pose when the keyframe leaves the window.
 #include <future>
+#include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -40,8 +42,11 @@ struct FinishedKeyframe {
 // The keyframe's exported points in the world frame (id = frame), as SO-DSO writes them.
 std::vector<IdPoint> world_points(const FinishedKeyframe& keyframe);
 
-struct StageTimes {  // accumulated milliseconds; export_points runs on a worker thread
+// Accumulated milliseconds. export_points and (with VoConfig::ba_on_worker) bundle_adjustment
+// run on worker threads; ba_wait is the time tracking waited for an adjustment to finish.
+struct StageTimes {
   double track = 0, pose = 0, keyframe = 0, bundle_adjustment = 0, export_points = 0;
+  double ba_wait = 0;
 };
 
 class StereoVo {
@@ -88,10 +93,16 @@ class StereoVo {
              FrameResult& result);
   // P3P RANSAC + LM against the tracks' map points (the minimal solver needs no prior).
   bool estimate_pose(Eigen::Isometry3d& T_world_cam, FrameResult& result);
+  // With the adjustment a frame late: LM again from T against the adjusted map points.
+  void refine_pose(Eigen::Isometry3d& T_world_cam, FrameResult& result);
   bool needs_keyframe(const Eigen::Isometry3d& T_world_cam, int inliers) const;
   void add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right,
                     Eigen::Isometry3d& T_world_cam, bool reset);
-  void run_window_ba(Eigen::Isometry3d& T_world_cam);
+  // The window's adjustment: started when a keyframe is added, applied (then the window
+  // trimmed) at once or after the next frame's pose. Returns the newest keyframe's correction
+  // (after * before^-1; identity when none was under way).
+  void start_window_ba();
+  Eigen::Isometry3d apply_window_ba();
   void finish_oldest();
   double right_u(const cv::Mat& left, const cv::Mat& right, float u, float v) const;
 
@@ -112,6 +123,12 @@ class StereoVo {
   int keyframes_ = 0;
   bool started_ = false, closed_ = false;
   StageTimes times_;
+  struct WindowBa {
+    std::unique_ptr<BaProblem> problem;  // on the heap: the worker holds it while StereoVo moves
+    std::unordered_map<int, int> weight, local;  // per point id: depth weight, problem index
+    int n_fixed = 0;
+    std::future<double> done;  // the adjustment's milliseconds
+  } ba_;
 };
 
 }  // namespace loopscan::vo
