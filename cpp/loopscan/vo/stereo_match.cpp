@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include <immintrin.h>
+
 #include "loopscan/core/simd.hpp"
 
 namespace loopscan::vo {
@@ -57,31 +59,9 @@ struct NarrowSearch {
   bool leftwards;
 };
 
-// Bytes disparities at a time, summed over the window in two registers of 16-bit lanes: each
-// absolute difference taken in 8 bits (exact), widened and added. Integer sums, so every vector
-// width gives the same costs.
-template <int Bytes>
-LOOPSCAN_INLINE Minimum narrow_search(const NarrowSearch& s, std::uint16_t* c) {
-  constexpr int kHalf = Bytes / 2;
-  using V8 = typename simd::Vec<std::uint8_t, kHalf>::type;
-  using V16 = typename simd::Vec<std::uint16_t, Bytes>::type;
+// The disparities from i on, one at a time, then the minimum in disparity order.
+LOOPSCAN_INLINE Minimum finish_narrow(const NarrowSearch& s, std::uint16_t* c, int i) {
   const int side = 2 * s.h + 1;
-  int i = 0;
-  for (; i + Bytes <= s.n; i += Bytes) {
-    V16 low{}, high{};
-    for (int row = 0; row < side; ++row) {
-      const std::uint8_t* r = s.ref_rows[row];
-      const std::uint8_t* o = s.other_rows[row] + i;
-      for (int k = 0; k < side; ++k) {
-        const V8 a = V8{} + r[k];
-        const V8 b0 = simd::load<V8>(o + k), b1 = simd::load<V8>(o + k + kHalf);
-        low += __builtin_convertvector((a > b0 ? a : b0) - (a > b0 ? b0 : a), V16);
-        high += __builtin_convertvector((a > b1 ? a : b1) - (a > b1 ? b1 : a), V16);
-      }
-    }
-    simd::store(c + i, low);
-    simd::store(c + i + kHalf, high);
-  }
   for (; i < s.n; ++i) {
     int sum = 0;
     for (int row = 0; row < side; ++row)
@@ -92,10 +72,50 @@ LOOPSCAN_INLINE Minimum narrow_search(const NarrowSearch& s, std::uint16_t* c) {
   return minimum_of(c, s.n);
 }
 
-Minimum narrow_base(const NarrowSearch& s, std::uint16_t* c) { return narrow_search<16>(s, c); }
+// 8 disparities at a time (SSE2), summed over the window in 16-bit lanes: pixels widened to 16
+// bits, absolute differences and sums exact (the caller keeps the sums within 16 bits), so both
+// kernels give the same costs.
+Minimum narrow_base(const NarrowSearch& s, std::uint16_t* c) {
+  using V8 = simd::Vec<std::uint8_t, 8>::type;
+  using S16 = simd::Vec<std::int16_t, 16>::type;
+  using V16 = simd::Vec<std::uint16_t, 16>::type;
+  const int side = 2 * s.h + 1;
+  int i = 0;
+  for (; i + 8 <= s.n; i += 8) {
+    V16 sum{};
+    for (int row = 0; row < side; ++row) {
+      const std::uint8_t* r = s.ref_rows[row];
+      const std::uint8_t* o = s.other_rows[row] + i;
+      for (int k = 0; k < side; ++k) {
+        const S16 d = (S16{} + static_cast<std::int16_t>(r[k])) -
+                      __builtin_convertvector(simd::load<V8>(o + k), S16);
+        sum += reinterpret_cast<V16>(d < 0 ? -d : d);
+      }
+    }
+    simd::store(c + i, sum);
+  }
+  return finish_narrow(s, c, i);
+}
 
+// The same, 16 disparities at a time.
 LOOPSCAN_AVX2 Minimum narrow_avx2(const NarrowSearch& s, std::uint16_t* c) {
-  return narrow_search<32>(s, c);
+  const int side = 2 * s.h + 1;
+  int i = 0;
+  for (; i + 16 <= s.n; i += 16) {
+    __m256i sum = _mm256_setzero_si256();
+    for (int row = 0; row < side; ++row) {
+      const std::uint8_t* r = s.ref_rows[row];
+      const std::uint8_t* o = s.other_rows[row] + i;
+      for (int k = 0; k < side; ++k) {
+        const __m256i b =
+            _mm256_cvtepu8_epi16(_mm_loadu_si128(reinterpret_cast<const __m128i*>(o + k)));
+        const __m256i d = _mm256_sub_epi16(_mm256_set1_epi16(r[k]), b);
+        sum = _mm256_add_epi16(sum, _mm256_abs_epi16(d));
+      }
+    }
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(c + i), sum);
+  }
+  return finish_narrow(s, c, i);
 }
 
 using NarrowKernel = Minimum (*)(const NarrowSearch&, std::uint16_t*);
