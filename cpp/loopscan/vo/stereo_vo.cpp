@@ -81,21 +81,19 @@ FrameResult StereoVo::process(int frame, const cv::Mat& left, const cv::Mat& rig
     add_keyframe(frame, left, right, T, false);
     r.keyframe = true;
   } else {
+    // Tracking starts from the pose and points before the adjustment started at the previous
+    // keyframe (it runs meanwhile); the pose is then estimated against the adjusted map. The
+    // adjustment always lands here, whatever the threads' timing, so the result is fixed.
     Eigen::Isometry3d predicted = last_pose_ * velocity_;
     const bool tracked = track(predicted, pyramid, r);
     times_.track += ms_since(t0);
+    const Eigen::Isometry3d correction = apply_window_ba();  // may drop tracks it rejects
+    predicted = correction * predicted;
+    last_pose_ = correction * last_pose_;
+    r.tracked = static_cast<int>(tracks_.size());
     t0 = Clock::now();
-    const bool posed = tracked && estimate_pose(T, r);
+    const bool posed = tracked && r.tracked >= config_.min_inliers && estimate_pose(T, r);
     times_.pose += ms_since(t0);
-    // The adjustment started at the previous keyframe lands here, after this frame's pose
-    // (always here, whatever the timing): that pose moves with the keyframe it was posed from.
-    if (config_.ba_on_worker) {
-      const Eigen::Isometry3d correction = apply_window_ba();
-      T = correction * T;
-      predicted = correction * predicted;
-      last_pose_ = correction * last_pose_;
-      if (posed) refine_pose(T, r);  // against the adjusted points, as if adjusted before
-    }
     if (!posed) {
       // Explicit reset: bridge with the motion model, rebuild the map from this stereo pair.
       T = predicted;
@@ -189,38 +187,6 @@ bool StereoVo::estimate_pose(Eigen::Isometry3d& T, FrameResult& r) {
   return true;
 }
 
-void StereoVo::refine_pose(Eigen::Isometry3d& T, FrameResult& r) {
-  std::vector<cv::Point3d> object;
-  std::vector<cv::Point2d> image;
-  for (const Track& t : tracks_) {
-    const Eigen::Vector3d& p = map_[t.point];
-    object.emplace_back(p.x(), p.y(), p.z());
-    image.emplace_back(t.px.x, t.px.y);
-  }
-  const Eigen::Isometry3d start = T.inverse();
-  cv::Mat R(3, 3, CV_64F), rvec, tvec(3, 1, CV_64F);
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) R.at<double>(i, j) = start.linear()(i, j);
-    tvec.at<double>(i) = start.translation()[i];
-  }
-  cv::Rodrigues(R, rvec);
-  const cv::Matx33d K(camera_.fx, 0, camera_.cx, 0, camera_.fy, camera_.cy, 0, 0, 1);
-  if (static_cast<int>(object.size()) >= config_.min_inliers)
-    cv::solvePnPRefineLM(object, image, K, cv::noArray(), rvec, tvec);
-  const Eigen::Isometry3d T_cam_world = from_rvec_tvec(rvec, tvec);
-  const double threshold = config_.ransac_reprojection_px * px_scale_;
-  std::vector<Track> kept;
-  for (const Track& t : tracks_) {
-    cv::Point2f px;
-    if (project(camera_, T_cam_world * map_[t.point], px) && cv::norm(px - t.px) < threshold)
-      kept.push_back(t);
-  }
-  if (static_cast<int>(kept.size()) < config_.min_inliers) return;  // keep the moved pose
-  r.inliers = static_cast<int>(kept.size());
-  T = T_cam_world.inverse();
-  tracks_ = std::move(kept);
-}
-
 bool StereoVo::needs_keyframe(const Eigen::Isometry3d& T, int inliers) const {
   const Keyframe& kf = window_.back();
   return (T.translation() - kf.T_world_cam.translation()).norm() > config_.keyframe_distance_m ||
@@ -267,11 +233,7 @@ void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right
   });
   window_.push_back(std::move(kf));
   final_keyframe_poses_.push_back(T);
-  start_window_ba();
-  if (!config_.ba_on_worker) {
-    apply_window_ba();
-    T = window_.back().T_world_cam;
-  }
+  start_window_ba();  // applied after the next frame's tracking (or by finish())
   keyframe_tracks_ = static_cast<int>(tracks_.size());
 }
 

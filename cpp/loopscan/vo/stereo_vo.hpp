@@ -43,7 +43,7 @@ struct FinishedKeyframe {
 std::vector<IdPoint> world_points(const FinishedKeyframe& keyframe);
 
 // Accumulated milliseconds. export_points and (with VoConfig::ba_on_worker) bundle_adjustment
-// run on worker threads; ba_wait is the time tracking waited for an adjustment to finish.
+// run on worker threads; ba_wait is the time the pose waited for an adjustment to finish.
 struct StageTimes {
   double track = 0, pose = 0, keyframe = 0, bundle_adjustment = 0, export_points = 0;
   double ba_wait = 0;
@@ -93,13 +93,11 @@ class StereoVo {
              FrameResult& result);
   // P3P RANSAC + LM against the tracks' map points (the minimal solver needs no prior).
   bool estimate_pose(Eigen::Isometry3d& T_world_cam, FrameResult& result);
-  // With the adjustment a frame late: LM again from T against the adjusted map points.
-  void refine_pose(Eigen::Isometry3d& T_world_cam, FrameResult& result);
   bool needs_keyframe(const Eigen::Isometry3d& T_world_cam, int inliers) const;
   void add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right,
                     Eigen::Isometry3d& T_world_cam, bool reset);
   // The window's adjustment: started when a keyframe is added, applied (then the window
-  // trimmed) at once or after the next frame's pose. Returns the newest keyframe's correction
+  // trimmed) after the next frame's tracking. Returns the newest keyframe's correction
   // (after * before^-1; identity when none was under way).
   void start_window_ba();
   Eigen::Isometry3d apply_window_ba();

@@ -39,9 +39,9 @@ struct VoConfig {
   int window_keyframes = 7, fixed_keyframes = 2;
   int ba_iterations = 6;
   double ba_huber_px = 1.5;
-  // The window's adjustment runs on a worker thread while the next frame is tracked and posed;
-  // its result is applied right after that frame's pose (a fixed one-frame lag, so the output
-  // does not depend on thread timing). false: applied before the next frame is tracked.
+  // The window's adjustment is applied after the next frame's tracking (Lucas-Kanade starts
+  // from the pose and points before it), before that frame's pose. true: it runs on a worker
+  // thread meanwhile; false: on the calling thread when it is applied. Same result either way.
   bool ba_on_worker = true;
   // Exported DSO-like points: the highest-gradient pixel of each block with a stereo depth, if
   // above max(point_min_gradient, median gradient of its 32x32 region + margin) as in DSO.
