@@ -210,8 +210,8 @@ TEST(StereoVo, ExportedPointsAreTheKeyframeImagesOwnWhenTheCallerReusesItsBuffer
   vo::StereoVo vo(intrinsics());
   cv::Mat left, right;
   for (int f = 0; f < 8; ++f) {
-    render(f, 0).copyTo(left);
-    render(f, 1).copyTo(right);
+    rendered(f, 0).copyTo(left);
+    rendered(f, 1).copyTo(right);
     vo.process(f, left, right);
     left.setTo(0);  // at once: the worker is likely still starting
     right.setTo(0);
@@ -220,7 +220,7 @@ TEST(StereoVo, ExportedPointsAreTheKeyframeImagesOwnWhenTheCallerReusesItsBuffer
   ASSERT_GE(vo.finished_keyframes().size(), 3u);
   for (const vo::FinishedKeyframe& kf : vo.finished_keyframes()) {
     const std::vector<vo::CameraPoint> expected =
-        vo::select_gradient_points(render(kf.frame, 0), render(kf.frame, 1), intrinsics(), {});
+        vo::select_gradient_points(rendered(kf.frame, 0), rendered(kf.frame, 1), intrinsics(), {});
     ASSERT_EQ(kf.camera_points.size(), expected.size()) << kf.frame;
     for (std::size_t i = 0; i < expected.size(); ++i) {
       EXPECT_EQ(kf.camera_points[i].p_cam, expected[i].p_cam);
