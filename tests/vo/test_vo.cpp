@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <map>
 #include <random>
 #include <set>
 
@@ -47,13 +48,22 @@ struct Drive {
   int first = 0;
 };
 
-Drive drive(int first, int count, const std::vector<int>& blank = {}) {
+// Rendered pairs of the short route, each rendered once.
+const cv::Mat& rendered(int frame, int camera_index) {
+  static std::map<std::pair<int, int>, cv::Mat> cache;
+  cv::Mat& m = cache[{frame, camera_index}];
+  if (m.empty()) m = render(frame, camera_index);
+  return m;
+}
+
+Drive drive(int first, int count, const std::vector<int>& blank = {},
+            const vo::VoConfig& config = {}) {
   Drive d;
   d.first = first;
-  vo::StereoVo vo(intrinsics());
+  vo::StereoVo vo(intrinsics(), config);
   const Eigen::Isometry3d T0 = scene().route.T_world_cam[first];
   for (int f = first; f < first + count; ++f) {
-    cv::Mat left = render(f, 0), right = render(f, 1);
+    cv::Mat left = rendered(f, 0).clone(), right = rendered(f, 1).clone();
     if (std::find(blank.begin(), blank.end(), f) != blank.end()) {
       left.setTo(0);
       right.setTo(0);
@@ -105,6 +115,34 @@ TEST(StereoVo, TracksARightTurn) {
   EXPECT_LT(m.translation_percent, 2.0);
   EXPECT_LT(m.rotation_deg_per_100m, 5.0);
   EXPECT_NEAR(yaw_change_deg(d.trajectory), turned, 1.0);
+}
+
+eval::OdometryMetrics metrics_of(const Drive& d) {
+  eval::OdometryOptions o;
+  o.segment_lengths_m = {10, 20, 30};
+  o.step_frames = 1;
+  return eval::odometry_metrics(d.gt, d.trajectory, o);
+}
+
+// The window's adjustment runs on a worker while the next frame is tracked and lands before
+// that frame's pose: the same trajectory, bit for bit, as computing it on the calling thread
+// at that point (ba_on_worker = false), every run, whatever the threads' timing.
+TEST(StereoVo, TheAdjustmentOnAWorkerGivesTheSameTrajectoryAsOnTheCallingThread) {
+  vo::VoConfig here;
+  here.ba_on_worker = false;
+  for (int first : {0, 60}) {  // the straight street, the right turn
+    const Drive worker = drive(first, 40), again = drive(first, 40),
+                calling = drive(first, 40, {}, here);
+    const eval::OdometryMetrics m = metrics_of(worker);
+    std::printf("frames %d..%d: %.3f %%, %.3f deg/100 m, ATE %.3f m\n", first, first + 39,
+                m.translation_percent, m.rotation_deg_per_100m, m.ate_rmse_m);
+    ASSERT_EQ(worker.trajectory.size(), calling.trajectory.size());
+    ASSERT_EQ(worker.trajectory.size(), again.trajectory.size());
+    for (std::size_t i = 0; i < worker.trajectory.size(); ++i) {
+      EXPECT_TRUE(worker.trajectory[i].matrix() == calling.trajectory[i].matrix()) << i;
+      EXPECT_TRUE(worker.trajectory[i].matrix() == again.trajectory[i].matrix()) << i;
+    }
+  }
 }
 
 TEST(StereoVo, ExportedPointsLieOnTheSurfacesWhereTheyWereSelected) {
@@ -164,6 +202,33 @@ TEST(StereoVo, ExportedPointsLieOnTheSurfacesWhereTheyWereSelected) {
       checked, 100.0 * depth_ok / checked, 100.0 * pixel_ok / checked);
   EXPECT_GT(depth_ok, 0.95 * checked);
   EXPECT_GT(pixel_ok, 0.9 * checked);
+}
+
+// The points are selected on a worker thread: exactly what select_gradient_points gives on the
+// keyframe's own images, even though the caller overwrites one pair of buffers every frame.
+TEST(StereoVo, ExportedPointsAreTheKeyframeImagesOwnWhenTheCallerReusesItsBuffers) {
+  vo::StereoVo vo(intrinsics());
+  cv::Mat left, right;
+  for (int f = 0; f < 8; ++f) {
+    rendered(f, 0).copyTo(left);
+    rendered(f, 1).copyTo(right);
+    vo.process(f, left, right);
+    left.setTo(0);  // at once: the worker is likely still starting
+    right.setTo(0);
+  }
+  vo.finish();
+  ASSERT_GE(vo.finished_keyframes().size(), 3u);
+  for (const vo::FinishedKeyframe& kf : vo.finished_keyframes()) {
+    const std::vector<vo::CameraPoint> expected =
+        vo::select_gradient_points(rendered(kf.frame, 0), rendered(kf.frame, 1), intrinsics(), {});
+    ASSERT_EQ(kf.camera_points.size(), expected.size()) << kf.frame;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      EXPECT_EQ(kf.camera_points[i].p_cam, expected[i].p_cam);
+      EXPECT_EQ(kf.camera_points[i].gray, expected[i].gray);
+      EXPECT_EQ(kf.camera_points[i].u, expected[i].u);
+      EXPECT_EQ(kf.camera_points[i].v, expected[i].v);
+    }
+  }
 }
 
 TEST(StereoVo, BlankFramesForceAnExplicitResetAndTrackingResumes) {

@@ -67,17 +67,19 @@ TEST(StereoMatch, RecoversAKnownShiftAndRejectsFlatImages) {
   EXPECT_FALSE(std::isfinite(vo::match_disparity(left, left, 1, 20, {1, 80, 2, 0.85, false})));
 }
 
-// The straightforward matcher: every disparity, every window pixel.
+// The straightforward matcher: every disparity, every window pixel; `direction` -1 searches
+// R leftwards of x (left into right image), +1 rightwards (the left-right check's way back).
 double naive_disparity(const cv::Mat& L, const cv::Mat& R, int x, int y, int d_lo, int d_hi, int h,
-                       double uniqueness) {
+                       double uniqueness, int direction = -1) {
   std::vector<int> cost;
   std::vector<int> ds;
   for (int d = std::max(d_lo, 0); d <= d_hi; ++d) {
-    if (x - d - h < 0) break;
+    const int xo = x + direction * d;
+    if (xo - h < 0 || xo + h >= R.cols) break;
     int s = 0;
     for (int dy = -h; dy <= h; ++dy)
       for (int dx = -h; dx <= h; ++dx)
-        s += std::abs(L.at<std::uint8_t>(y + dy, x + dx) - R.at<std::uint8_t>(y + dy, x + dx - d));
+        s += std::abs(L.at<std::uint8_t>(y + dy, x + dx) - R.at<std::uint8_t>(y + dy, xo + dx));
     cost.push_back(s);
     ds.push_back(d);
   }
@@ -117,6 +119,45 @@ TEST(StereoMatch, EqualsTheStraightforwardSearch) {
   }
   EXPECT_GT(compared, 300);
   EXPECT_GT(finite, 50);
+}
+
+// The vectorised 16-bit search (half windows up to 7; 8 takes the 32-bit path) against the
+// straightforward one on KITTI-wide disparity ranges, with the left-right check (the search
+// back rightwards). LOOPSCAN_NO_AVX2=1 runs the baseline kernel.
+TEST(StereoMatch, EqualsTheStraightforwardSearchOnWideRangesBothWays) {
+  const cv::Mat left = random_texture(700, 40, 10);
+  cv::Mat right = random_texture(700, 40, 11);
+  left.colRange(37, 700).copyTo(right.colRange(0, 663));
+  std::mt19937 rng(5);
+  int compared = 0, finite = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int h = 1 + static_cast<int>(rng() % 8);
+    const int x = h + static_cast<int>(rng() % (700 - 2 * h));
+    const int y = h + static_cast<int>(rng() % (40 - 2 * h));
+    const int d_lo = static_cast<int>(rng() % 40), d_hi = d_lo + 2 + static_cast<int>(rng() % 400);
+    const double fast =
+        vo::match_disparity(left, right, x, y, {double(d_lo), double(d_hi), h, 0.95, true});
+    double slow = naive_disparity(left, right, x, y, d_lo, d_hi, h, 0.95);
+    if (std::isfinite(slow)) {
+      const double d = std::clamp(slow, std::floor(slow + 0.5) - 0.5, std::floor(slow + 0.5) + 0.5);
+      const int xr = static_cast<int>(std::lround(x - d));
+      const double back = naive_disparity(right, left, xr, y, d_lo, d_hi, h, 0.95, +1);
+      slow = std::isfinite(back) && std::abs(std::clamp(back, std::floor(back + 0.5) - 0.5,
+                                                        std::floor(back + 0.5) + 0.5) -
+                                             d) <= 1.0
+                 ? d
+                 : NAN;
+    }
+    ++compared;
+    ASSERT_EQ(std::isfinite(fast), std::isfinite(slow))
+        << x << " " << y << " " << h << " " << d_lo << " " << d_hi;
+    if (std::isfinite(fast)) {
+      ++finite;
+      EXPECT_NEAR(fast, slow, 1e-9);
+    }
+  }
+  EXPECT_EQ(compared, 300);
+  EXPECT_GT(finite, 100);
 }
 
 TEST(StereoMatch, SubPixelShiftOfASmoothTexture) {

@@ -81,11 +81,18 @@ FrameResult StereoVo::process(int frame, const cv::Mat& left, const cv::Mat& rig
     add_keyframe(frame, left, right, T, false);
     r.keyframe = true;
   } else {
-    const Eigen::Isometry3d predicted = last_pose_ * velocity_;
+    // Tracking starts from the pose and points before the adjustment started at the previous
+    // keyframe (it runs meanwhile); the pose is then estimated against the adjusted map. The
+    // adjustment always lands here, whatever the threads' timing, so the result is fixed.
+    Eigen::Isometry3d predicted = last_pose_ * velocity_;
     const bool tracked = track(predicted, pyramid, r);
     times_.track += ms_since(t0);
+    const Eigen::Isometry3d correction = apply_window_ba();  // may drop tracks it rejects
+    predicted = correction * predicted;
+    last_pose_ = correction * last_pose_;
+    r.tracked = static_cast<int>(tracks_.size());
     t0 = Clock::now();
-    const bool posed = tracked && estimate_pose(T, r);
+    const bool posed = tracked && r.tracked >= config_.min_inliers && estimate_pose(T, r);
     times_.pose += ms_since(t0);
     if (!posed) {
       // Explicit reset: bridge with the motion model, rebuild the map from this stereo pair.
@@ -216,26 +223,31 @@ void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right
     kf.observations.push_back({id, c.x, c.y, c.x - d});
   }
   times_.keyframe += ms_since(t0);
-  t0 = Clock::now();
-  kf.camera_points = select_gradient_points(left, right, camera_, config_);
-  times_.export_points += ms_since(t0);
+  // The exported points need neither poses nor tracks: off the tracking thread, on copies (the
+  // caller may reuse its image buffers once process() returns).
+  kf.camera_points = std::async(std::launch::async, [l = left.clone(), r = right.clone(),
+                                                     camera = camera_, config = config_] {
+    const auto start = Clock::now();
+    std::vector<CameraPoint> points = select_gradient_points(l, r, camera, config);
+    return std::make_pair(std::move(points), ms_since(start));
+  });
   window_.push_back(std::move(kf));
   final_keyframe_poses_.push_back(T);
-  t0 = Clock::now();
-  run_window_ba(T);
-  times_.bundle_adjustment += ms_since(t0);
-  while (static_cast<int>(window_.size()) > config_.window_keyframes) finish_oldest();
+  start_window_ba();  // applied after the next frame's tracking (or by finish())
   keyframe_tracks_ = static_cast<int>(tracks_.size());
 }
 
 void StereoVo::finish_oldest() {
   Keyframe& kf = window_.front();
-  finished_.push_back({kf.frame, kf.T_world_cam, kf.reset, std::move(kf.camera_points)});
+  auto [points, ms] = kf.camera_points.get();
+  times_.export_points += ms;
+  finished_.push_back({kf.frame, kf.T_world_cam, kf.reset, std::move(points)});
   window_.erase(window_.begin());
 }
 
 void StereoVo::finish() {
   closed_ = true;
+  apply_window_ba();
   while (!window_.empty()) finish_oldest();
 }
 

@@ -8,6 +8,9 @@
 //
 // Per keyframe it exports DSO-like points (high-gradient pixels with stereo depth and gray value),
 // expressed in the world frame with the keyframe's final pose when the keyframe leaves the window.
+#include <future>
+#include <memory>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -39,8 +42,11 @@ struct FinishedKeyframe {
 // The keyframe's exported points in the world frame (id = frame), as SO-DSO writes them.
 std::vector<IdPoint> world_points(const FinishedKeyframe& keyframe);
 
-struct StageTimes {  // accumulated milliseconds
+// Accumulated milliseconds. export_points and (with VoConfig::ba_on_worker) bundle_adjustment
+// run on worker threads; ba_wait is the time the pose waited for an adjustment to finish.
+struct StageTimes {
   double track = 0, pose = 0, keyframe = 0, bundle_adjustment = 0, export_points = 0;
+  double ba_wait = 0;
 };
 
 class StereoVo {
@@ -70,7 +76,9 @@ class StereoVo {
     bool reset;
     int index;  // among all keyframes
     std::vector<Observation> observations;
-    std::vector<CameraPoint> camera_points;
+    // Selected on a worker thread from the keyframe's own copy of its images (a pure function
+    // of them, so the result does not depend on timing); collected when the keyframe leaves.
+    std::future<std::pair<std::vector<CameraPoint>, double>> camera_points;  // points, ms
   };
   struct Track {
     int point;
@@ -88,7 +96,11 @@ class StereoVo {
   bool needs_keyframe(const Eigen::Isometry3d& T_world_cam, int inliers) const;
   void add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right,
                     Eigen::Isometry3d& T_world_cam, bool reset);
-  void run_window_ba(Eigen::Isometry3d& T_world_cam);
+  // The window's adjustment: started when a keyframe is added, applied (then the window
+  // trimmed) after the next frame's tracking. Returns the newest keyframe's correction
+  // (after * before^-1; identity when none was under way).
+  void start_window_ba();
+  Eigen::Isometry3d apply_window_ba();
   void finish_oldest();
   double right_u(const cv::Mat& left, const cv::Mat& right, float u, float v) const;
 
@@ -109,6 +121,12 @@ class StereoVo {
   int keyframes_ = 0;
   bool started_ = false, closed_ = false;
   StageTimes times_;
+  struct WindowBa {
+    std::unique_ptr<BaProblem> problem;  // on the heap: the worker holds it while StereoVo moves
+    std::unordered_map<int, int> weight, local;  // per point id: depth weight, problem index
+    int n_fixed = 0;
+    std::future<double> done;  // the adjustment's milliseconds
+  } ba_;
 };
 
 }  // namespace loopscan::vo

@@ -11,9 +11,8 @@ struct StereoIntrinsics {
   // A positive size, focal lengths in [1, 1e5] px, a principal point within +-1e5 px and a
   // baseline in (0, 100] m (what io::read_kitti_calib accepts).
   bool plausible() const {
-    return width > 0 && height > 0 && fx >= 1 && fx <= 1e5 && fy >= 1 && fy <= 1e5 &&
-           cx >= -1e5 && cx <= 1e5 && cy >= -1e5 && cy <= 1e5 && baseline_m > 0 &&
-           baseline_m <= 100;
+    return width > 0 && height > 0 && fx >= 1 && fx <= 1e5 && fy >= 1 && fy <= 1e5 && cx >= -1e5 &&
+           cx <= 1e5 && cy >= -1e5 && cy <= 1e5 && baseline_m > 0 && baseline_m <= 100;
   }
 };
 
@@ -40,10 +39,14 @@ struct VoConfig {
   int window_keyframes = 7, fixed_keyframes = 2;
   int ba_iterations = 6;
   double ba_huber_px = 1.5;
+  // The window's adjustment is applied after the next frame's tracking (Lucas-Kanade starts
+  // from the pose and points before it), before that frame's pose. true: it runs on a worker
+  // thread meanwhile; false: on the calling thread when it is applied. Same result either way.
+  bool ba_on_worker = true;
   // Exported DSO-like points: the highest-gradient pixel of each block with a stereo depth, if
   // above max(point_min_gradient, median gradient of its 32x32 region + margin) as in DSO.
   int points_per_keyframe = 1000;
-  double point_min_gradient = 8.0;  // gray levels per pixel (central differences / 2)
+  double point_min_gradient = 8.0;          // gray levels per pixel (central differences / 2)
   double point_gradient_over_median = 7.0;  // DSO's setting_minGradHistAdd
   double point_max_depth_m = 45.0;
 };
