@@ -1,9 +1,14 @@
 // The stereo renderer at KITTI resolution (1241x376) on the built-in city, summer: stereo pairs
 // per second on 1 and 2 threads (Arg = threads), and its stages on one thread, per view:
 // visibility only (render_depth: tile lists + ray tests), + shading (no sensor noise), and the
-// per-pixel oracle (World::raycast, what the renderer did before). On demand.
+// per-pixel oracle (World::raycast, what the renderer did before); and a sloped route, KITTI 00's
+// ground truth (LOOPSCAN_KITTI_POSES, default ../shared/data/kitti/poses/00.txt). On demand.
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
+#include <filesystem>
+
+#include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/sim/renderer.hpp"
 #include "loopscan/sim/trajectory.hpp"
 
@@ -62,6 +67,47 @@ void BM_RenderViewStage(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_RenderViewStage)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
+// A sloped street network (KITTI 00's poses: the ground is found by iteration): 12 frames spread
+// over the route, one stereo pair per iteration, 12 iterations (the same frames in every
+// repetition; Arg = threads).
+struct KittiScene {
+  sim::Trajectory route;
+  sim::World world;
+  sim::Conditions conditions = sim::Conditions::for_season(sim::Season::Summer);
+  sim::StereoCamera camera;
+  KittiScene() {
+    const char* env = std::getenv("LOOPSCAN_KITTI_POSES");
+    const std::string path = env ? env : "../shared/data/kitti/poses/00.txt";
+    if (!std::filesystem::exists(path)) return;
+    route = sim::trajectory_from_kitti(io::read_kitti_poses(path), path);
+    world = sim::World::build(route.centres(), sim::WorldConfig{});
+  }
+};
+
+void BM_RenderKittiPair(benchmark::State& state) {
+  static const KittiScene s;
+  if (s.route.T_world_cam.empty()) {
+    state.SkipWithError("no KITTI poses (set LOOPSCAN_KITTI_POSES)");
+    return;
+  }
+  sim::RenderConfig rc;
+  rc.threads = static_cast<int>(state.range(0));
+  const int n = static_cast<int>(s.route.T_world_cam.size());
+  int i = 0;
+  for (auto _ : state) {
+    const int frame = static_cast<int>((static_cast<long>(i++ % 12) * 2 + 1) * n / 24);
+    for (int side = 0; side < 2; ++side)
+      benchmark::DoNotOptimize(sim::render_view(s.world, s.conditions, s.camera,
+                                                s.route.T_world_cam[frame], side, frame, rc));
+  }
+}
+BENCHMARK(BM_RenderKittiPair)
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(12)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

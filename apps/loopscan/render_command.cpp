@@ -1,8 +1,10 @@
 // loopscan render: rectified stereo images of the synthetic world in the KITTI odometry layout
 // (image_0/, image_1/ as NNNNNN.png, calib.txt, times.txt, poses.txt).
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <future>
 #include <sstream>
 
 #include "commands.hpp"
@@ -66,20 +68,29 @@ void run_render(const RenderArgs& a) {
   StepProgress progress("render", "stereo pairs");
   std::vector<Eigen::Matrix<double, 3, 4>> poses;
   std::ostringstream times;
+  // The PNGs of a pair (zlib, ~25 ms each) are written on another thread while the next pair
+  // renders; the files are the same, each still written to a temporary file and renamed.
+  std::future<void> writing;
   for (int i = 0; i < count; ++i) {
     const int f = first + i;
     char name[32];
     std::snprintf(name, sizeof name, "/%06d.png", i);
-    for (int cam = 0; cam < 2; ++cam) {
-      const sim::GrayImage img =
+    std::array<sim::GrayImage, 2> pair;
+    for (int cam = 0; cam < 2; ++cam)
+      pair[cam] =
           sim::render_view(world, conditions, camera, t.trajectory.T_world_cam[f], cam, f, rc);
-      io::write_png_gray(a.out + "/image_" + std::to_string(cam) + name, img.width, img.height,
-                         img.pixels);
-    }
+    if (writing.valid()) writing.get();  // rethrows a failed write
+    writing =
+        std::async(std::launch::async, [&a, name = std::string(name), pair = std::move(pair)] {
+          for (int cam = 0; cam < 2; ++cam)
+            io::write_png_gray(a.out + "/image_" + std::to_string(cam) + name, pair[cam].width,
+                               pair[cam].height, pair[cam].pixels);
+        });
     poses.push_back(t.trajectory.T_world_cam[f].matrix().topRows<3>());
     times << std::scientific << 0.1 * i << '\n';
     progress.update(std::size_t(i + 1), std::size_t(count));
   }
+  if (writing.valid()) writing.get();
   progress.finish();
   io::write_file_atomic(a.out + "/calib.txt", calib_text(camera));
   io::write_file_atomic(a.out + "/times.txt", times.str());

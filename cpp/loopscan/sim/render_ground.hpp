@@ -1,7 +1,9 @@
 #pragma once
 // Per-row caches of the renderer's centreline queries, the cost of every ground pixel: a
 // nearest-segment search for the road / sidewalk / ground class and, on streets that are not
-// level, for the height of the ground under each step of the ray's iteration.
+// level, for the height of the ground under each step of the ray's iteration. Exact: the same
+// answers as CentrelineIndex::nearest (RenderConfig::exact_ground asks it every time).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -10,36 +12,41 @@
 
 namespace loopscan::sim {
 
-// nearest() for points near each other. A point within kShift of the anchor (the last full
-// query, at nearest distance D) has its nearest segment within D + kShift of itself, so within
-// D + 2 kShift of the anchor: those segments answer it exactly. They are gathered when a second
-// point comes that close (far ground moves more than that from pixel to pixel).
+// nearest() for a stream of points near each other (one step of the ground iteration along an
+// image row). Where the points move slowly, an anchor gathers every segment within D + 2 kShift
+// of itself (D: its nearest distance); a point within kShift of the anchor has its nearest
+// segment among them, and sorted by distance only the first few need a test. Points that move
+// fast (far ground) are searched in the box tree, bounded first by the last answer.
 class NearestCache {
  public:
   explicit NearestCache(const CentrelineIndex& index) : index_(index) {}
   CentrelineIndex::Nearest at(double x, double z) {
-    const double dx = x - x_, dz = z - z_;
-    if (dx * dx + dz * dz <= kShift * kShift) {
-      if (!gathered_) {
-        index_.segments_near(x_, z_, d_ + 2.0 * kShift, 16, near_);
-        gathered_ = true;
-      }
-      if (!near_.empty()) return index_.nearest_among(near_, x, z);
+    const double ax = x - ax_, az = z - az_;
+    const double shift = std::sqrt(ax * ax + az * az);
+    if (shift <= kShift) return index_.nearest_of(near_, shift, x, z);
+    const CentrelineIndex::Nearest n = index_.nearest_from(hint_, x, z);
+    if (!n.found) return n;
+    const double mx = x - px_, mz = z - pz_;
+    if (mx * mx + mz * mz < kSlow * kSlow) {  // the anchor will serve many points
+      index_.segments_within(x, z, n.distance * (1.0 - 1e-9) - 1e-6,
+                             n.distance + 2.0 * kShift + 1e-6, near_);
+      ax_ = x;
+      az_ = z;
     }
-    const CentrelineIndex::Nearest n = index_.nearest(x, z);
-    x_ = x;
-    z_ = z;
-    d_ = n.distance;
-    gathered_ = false;
+    hint_ = n.segment;
+    px_ = x;
+    pz_ = z;
     return n;
   }
 
  private:
   static constexpr double kShift = 1.0;  // metres
+  static constexpr double kSlow = kShift / 8;
   const CentrelineIndex& index_;
-  std::vector<std::uint32_t> near_;
-  double x_ = 1e300, z_ = 1e300, d_ = 0.0;
-  bool gathered_ = false;
+  std::vector<CentrelineIndex::Candidate> near_;  // nearest first
+  double ax_ = 1e300, az_ = 1e300;                // anchor
+  double px_ = 1e300, pz_ = 1e300;                // last point searched in the tree
+  std::uint32_t hint_ = 0;
 };
 
 // Road / sidewalk / ground. The centreline distance is 1-Lipschitz, so a point closer to the
@@ -70,30 +77,45 @@ class GroundClasses {
   Surface surface_ = Surface::Ground;
 };
 
-// The caches of one image row: ground heights (ground_y_at) and classes. Every ray's ground
-// iteration starts under the camera centre: that height is kept apart, so the cache follows
-// the hit points.
+// The caches of one image row: ground heights (ground_y_at) for each step of the ground
+// iteration (the k-th steps of neighbouring pixels are near each other; the first, under the
+// camera centre, is kept apart) and the classes of the hit points.
 class GroundCaches {
  public:
-  GroundCaches(const StaticWorld& w, const Eigen::Vector3d& origin)
-      : w_(w), nearest_(w.centreline), classes_(w), ox_(origin.x()), oz_(origin.z()) {
+  static constexpr int kSteps = 7;  // ground_t_with asks at most 1 + 6 heights a ray
+  GroundCaches(const StaticWorld& w, const Eigen::Vector3d& origin, bool exact = false)
+      : w_(w),
+        classes_nearest_(w.centreline),
+        classes_(w),
+        ox_(origin.x()),
+        oz_(origin.z()),
+        exact_(exact) {
     oy_ = height(w.centreline.nearest(ox_, oz_));
+    steps_.reserve(kSteps);
+    for (int k = 0; k < kSteps; ++k) steps_.emplace_back(w.centreline);
   }
-  double y_at(double x, double z) {
+  // Height at the step-th query of a ray's iteration.
+  double y_at(int step, double x, double z) {
     if (w_.flat) return w_.flat_ground_y;
     if (x == ox_ && z == oz_) return oy_;
-    return height(nearest_.at(x, z));
+    if (exact_) return height(w_.centreline.nearest(x, z));
+    return height(steps_[std::min(step, kSteps - 1)].at(x, z));
   }
-  Surface surface_at(double x, double z) { return classes_.at(x, z, nearest_); }
+  Surface surface_at(double x, double z) {
+    if (exact_) return ground_surface(w_, w_.centreline.nearest(x, z).distance);
+    return classes_.at(x, z, classes_nearest_);
+  }
 
  private:
   double height(const CentrelineIndex::Nearest& n) const {
     return (n.found ? n.y : 0.0) + w_.config.camera_height_m;
   }
   const StaticWorld& w_;
-  NearestCache nearest_;
+  std::vector<NearestCache> steps_;
+  NearestCache classes_nearest_;
   GroundClasses classes_;
   double ox_, oz_, oy_ = 0.0;
+  bool exact_;
 };
 
 }  // namespace loopscan::sim

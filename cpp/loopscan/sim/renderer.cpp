@@ -46,8 +46,9 @@ HitRef first_hit(const View& view, int u, int v, const Eigen::Vector3d& d, doubl
                  GroundCaches& caches) {
   HitRef best;
   const StaticWorld& w = *view.world;
-  const double tg =
-      ground_t_with(w, view.origin, d, [&](double x, double z) { return caches.y_at(x, z); });
+  int step = 0;
+  const double tg = ground_t_with(w, view.origin, d,
+                                  [&](double x, double z) { return caches.y_at(step++, x, z); });
   if (tg >= 0.0 && tg < t_best) {
     t_best = tg;
     best.ground = best.found = true;
@@ -111,7 +112,7 @@ LOOPSCAN_SIM_CLONES void render_row(const RowJob& job, int v) {
                           static_cast<unsigned>(camera_index) * 7919u + static_cast<unsigned>(v),
                       config.noise_sigma > 0 ? config.noise_sigma : 1.0);
   std::optional<GroundCaches> ground;
-  if (view.world) ground.emplace(*view.world, view.origin);
+  if (view.world) ground.emplace(*view.world, view.origin, config.exact_ground);
   for (int u = 0; u < camera.width; ++u) {
     const Eigen::Vector3d ray = view.R * camera.ray(u, v);
     std::optional<Hit> hit;
@@ -167,7 +168,7 @@ std::vector<double> render_depth(const World& world, const Conditions& condition
       make_view(world, conditions, camera, T_world_cam, camera_index, config.max_distance_m);
   for_each_row(camera, config.threads, [&](int v) {
     std::optional<GroundCaches> ground;
-    if (view.world) ground.emplace(*view.world, view.origin);
+    if (view.world) ground.emplace(*view.world, view.origin, config.exact_ground);
     for (int u = 0; u < camera.width; ++u) {
       const Eigen::Vector3d ray = view.R * camera.ray(u, v);
       double t = 0.0;

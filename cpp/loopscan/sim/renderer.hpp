@@ -29,6 +29,9 @@ struct RenderConfig {
   // The oracle: World::raycast for every pixel (grid walk, full shading) instead of the tile
   // lists of the objects in view. Same images, ~10x slower; for tests.
   bool raycast_every_pixel = false;
+  // The oracle of the ground caches: CentrelineIndex::nearest for every ground query of the
+  // tile renderer (sloped streets). Same images; for tests.
+  bool exact_ground = false;
 };
 
 // The camera scaled by `scale` (image size and intrinsics; the baseline stays).

@@ -69,6 +69,7 @@ CentrelineIndex::CentrelineIndex(const std::vector<Eigen::Vector3d>& path, doubl
     min_y_ = std::min(min_y_, p.y());
     max_y_ = std::max(max_y_, p.y());
   }
+  build_tree();
   nx_ = static_cast<int>(std::floor((max_x - min_x_) / cell_)) + 1;
   nz_ = static_cast<int>(std::floor((max_z - min_z_) / cell_)) + 1;
   // Two passes (count, fill) over segment bounding boxes give a compact, ordered CSR layout.
@@ -101,22 +102,21 @@ int CentrelineIndex::cell_z(double z) const {
   return std::clamp(static_cast<int>(std::floor((z - min_z_) / cell_)), 0, nz_ - 1);
 }
 
-void CentrelineIndex::consider(const Segment& s, double x, double z, Nearest& best) const {
-  const double ex = s.bx - s.ax, ez = s.bz - s.az, len2 = ex * ex + ez * ez;
-  double t = len2 > 0.0 ? ((x - s.ax) * ex + (z - s.az) * ez) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  const double dx = x - (s.ax + t * ex), dz = z - (s.az + t * ez);
-  const double d2 = dx * dx + dz * dz;
+void CentrelineIndex::consider(std::uint32_t segment, double x, double z, Nearest& best) const {
+  const Segment& s = segs_[segment];
+  double t;
+  const double d2 = distance2(s, x, z, t);
   if (d2 < best.distance * best.distance) {  // squared compare: no sqrt per segment
     best.distance = std::sqrt(d2);
     best.y = s.ay + t * (s.by - s.ay);
     best.found = true;
+    best.segment = segment;
   }
 }
 
 CentrelineIndex::Nearest CentrelineIndex::nearest_linear(double x, double z) const {
   Nearest best;
-  for (const auto& s : segs_) consider(s, x, z, best);
+  for (std::uint32_t s = 0; s < segs_.size(); ++s) consider(s, x, z, best);
   return best;
 }
 
@@ -131,8 +131,7 @@ CentrelineIndex::Nearest CentrelineIndex::nearest(double x, double z) const {
   const auto visit = [&](int i, int j) {
     if (i < 0 || i >= nx_) return;
     const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
-    for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k)
-      consider(segs_[items_[k]], x, z, best);
+    for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) consider(items_[k], x, z, best);
   };
   for (int r = 0; r <= kMaxRing; ++r) {
     for (int j = std::max(cj - r, 0); j <= std::min(cj + r, nz_ - 1); ++j) {
@@ -152,29 +151,25 @@ CentrelineIndex::Nearest CentrelineIndex::nearest(double x, double z) const {
   return nearest_linear(x, z);
 }
 
-void CentrelineIndex::segments_near(double x, double z, double radius, std::size_t max_cells,
-                                    std::vector<std::uint32_t>& out) const {
-  out.clear();
-  if (segs_.empty()) return;
-  const int i0 = cell_x(x - radius), i1 = cell_x(x + radius);
-  const int j0 = cell_z(z - radius), j1 = cell_z(z + radius);
-  if (static_cast<std::size_t>(i1 - i0 + 1) * static_cast<std::size_t>(j1 - j0 + 1) > max_cells)
-    return;
-  for (int j = j0; j <= j1; ++j)
-    for (int i = i0; i <= i1; ++i) {
-      const std::size_t c = static_cast<std::size_t>(j) * nx_ + i;
-      for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) {
-        Nearest n;
-        consider(segs_[items_[k]], x, z, n);
-        if (n.distance <= radius) out.push_back(items_[k]);
-      }
-    }
-}
-
-CentrelineIndex::Nearest CentrelineIndex::nearest_among(const std::vector<std::uint32_t>& segments,
-                                                        double x, double z) const {
+CentrelineIndex::Nearest CentrelineIndex::nearest_of(const std::vector<Candidate>& sorted,
+                                                     double shift, double x, double z) const {
   Nearest best;
-  for (const std::uint32_t s : segments) consider(segs_[s], x, z, best);
+  double best_d2 = std::numeric_limits<double>::infinity();
+  // Rounding margin of the distances (metres): only ever lets more candidates in.
+  constexpr double kSlack = 1e-6;
+  for (const Candidate& c : sorted) {
+    if (c.distance - shift > best.distance + kSlack) break;
+    const Segment& s = segs_[c.segment];
+    double t;
+    const double d2 = distance2(s, x, z, t);
+    if (d2 < best_d2 || (d2 == best_d2 && c.segment < best.segment)) {
+      best_d2 = d2;
+      best.distance = std::sqrt(d2);
+      best.y = s.ay + t * (s.by - s.ay);
+      best.found = true;
+      best.segment = c.segment;
+    }
+  }
   return best;
 }
 

@@ -27,6 +27,7 @@ class CentrelineIndex {
     double distance = std::numeric_limits<double>::infinity();  // horizontal
     double y = 0.0;  // centreline y at the nearest point (interpolated along the segment)
     bool found = false;
+    std::uint32_t segment = 0;  // the nearest segment (if found)
   };
 
   CentrelineIndex() = default;
@@ -37,13 +38,22 @@ class CentrelineIndex {
   // segments within `search` of it (infinity if none).
   double distance_to(const Footprint& f, double search) const;
 
-  // The segments that come within `radius` of (x, z) (some twice). Empty if more than
-  // max_cells grid cells would be searched.
-  void segments_near(double x, double z, double radius, std::size_t max_cells,
-                     std::vector<std::uint32_t>& out) const;
-  // nearest() among the given segments only (exact when they hold every segment within the
-  // nearest distance).
-  Nearest nearest_among(const std::vector<std::uint32_t>& segments, double x, double z) const;
+  // A segment and its horizontal distance from a point.
+  struct Candidate {
+    double distance;
+    std::uint32_t segment;
+  };
+  // Every segment that comes within `radius` of (x, z), once, nearest first (ties: lower index).
+  // `empty`: a radius known to hold no segment (cells wholly inside it are skipped).
+  void segments_within(double x, double z, double empty, double radius,
+                       std::vector<Candidate>& out) const;
+  // nearest() from candidates sorted by their distance from an anchor `shift` away from (x, z)
+  // that hold every segment within (nearest distance at the anchor) + 2 shift of it: a candidate
+  // farther than the best so far + shift from the anchor cannot win. Ties go to the lower index.
+  Nearest nearest_of(const std::vector<Candidate>& sorted, double shift, double x, double z) const;
+  // nearest() by the box tree, bounded first by `hint` (a segment likely near: the last
+  // answer nearby). Ties go to the lower index.
+  Nearest nearest_from(std::uint32_t hint, double x, double z) const;
 
   std::size_t segment_count() const { return segs_.size(); }
   bool empty() const { return segs_.empty(); }
@@ -54,7 +64,15 @@ class CentrelineIndex {
   struct Segment {
     double ax, az, ay, bx, bz, by;
   };
-  void consider(const Segment& s, double x, double z, Nearest& best) const;
+  // Squared distance from (x, z) to the segment and the parameter of the nearest point.
+  static double distance2(const Segment& s, double x, double z, double& t) {
+    const double ex = s.bx - s.ax, ez = s.bz - s.az, len2 = ex * ex + ez * ez;
+    t = len2 > 0.0 ? ((x - s.ax) * ex + (z - s.az) * ez) / len2 : 0.0;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);  // std::clamp
+    const double dx = x - (s.ax + t * ex), dz = z - (s.az + t * ez);
+    return dx * dx + dz * dz;
+  }
+  void consider(std::uint32_t segment, double x, double z, Nearest& best) const;
   Nearest nearest_linear(double x, double z) const;
   int cell_x(double x) const;
   int cell_z(double z) const;
@@ -65,6 +83,18 @@ class CentrelineIndex {
   std::vector<std::uint32_t> start_;  // CSR: cell c holds items_[start_[c] .. start_[c + 1])
   std::vector<std::uint32_t> items_;
   double min_y_ = 0.0, max_y_ = 0.0;
+  // Bounding boxes over the segments split at the median along the longer side, as an implicit
+  // binary tree: node 1 the root, children 2i and 2i + 1, leaf l at leaf_base_ + l holding
+  // tree_segs_[kLeaf l, kLeaf (l + 1)). For segments_within and nearest_from.
+  struct TreeBox {
+    double x0, z0, x1, z1;
+  };
+  static constexpr std::uint32_t kLeaf = 4;
+  std::vector<TreeBox> tree_;
+  std::vector<std::uint32_t> tree_segs_;
+  std::uint32_t leaf_base_ = 0;
+  void build_tree();
+  void split_tree(std::uint32_t node, std::uint32_t first_leaf, std::uint32_t leaves);
 };
 
 }  // namespace loopscan::sim
