@@ -9,9 +9,9 @@
 // The 120-D key is stored quantised (uint16) after the spectra, ring key first; the scan keeps
 // its own copy of the coarse key. With PlaceStorage::Compact the spectra are stored
 // as bytes (compact_spectra.hpp) and expanded before scoring.
-// On the simulated city the ring key alone puts the exact best place among 50 candidates for
-// ~40% of same-season queries and ~89% across seasons; the two stages reach ~65% and ~99%
-// (README, "Place database").
+// On the simulated city the ring key alone put the exact best place among 50 candidates for
+// ~40% of same-season queries and ~89% across seasons; the two stages with the earlier 10-D
+// tree key reached ~65% and ~99% (README, "Place database").
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
