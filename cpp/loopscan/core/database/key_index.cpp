@@ -6,6 +6,8 @@
 
 #include <nanoflann.hpp>
 
+#include "loopscan/core/database/nearest_set.hpp"
+
 namespace loopscan {
 namespace {
 
@@ -31,53 +33,29 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<
     nanoflann::L2_Simple_Adaptor<float, KeyRange, float, std::uint32_t>, KeyRange, -1,
     std::uint32_t>;
 
-// k-nearest result set that skips places the query may not match, so the tree's pruning
-// bound is (at most a little above) the k-th *eligible* distance and the answer is exact among
-// eligible places. Points closer than the bound are appended and the buffer is cut back to the
-// k best whenever it holds 2k (amortised O(1) a point; a heap costs O(log k) each, which
-// dominated searches for hundreds of neighbours). Ties go to the smaller index.
+// nanoflann's result-set interface over a NearestSet that skips places the query may not
+// match, so the tree's pruning bound is (at most a little above) the k-th *eligible* distance
+// and the answer is exact among eligible places.
 class EligibleKnn {
  public:
   using DistanceType = float;
   using IndexType = std::uint32_t;
   EligibleKnn(std::size_t capacity, const std::function<bool(std::size_t)>& eligible)
-      : capacity_(capacity), eligible_(eligible) {
-    items_.reserve(2 * capacity + 1);
-  }
-  std::size_t size() const { return std::min(items_.size(), capacity_); }
-  bool full() const { return items_.size() >= capacity_; }
-  float worstDist() const { return bound_; }
+      : set_(capacity, eligible) {}
+  std::size_t size() const { return set_.size(); }
+  bool full() const { return set_.full(); }
+  float worstDist() const { return set_.bound(); }
   // Tree searches report positions in their leaf order: `ids` turns them into places.
   void set_ids(const std::uint32_t* ids) { ids_ = ids; }
   bool addPoint(float dist, std::uint32_t local) {
-    if (dist > bound_) return true;
-    const std::size_t index = ids_ ? ids_[local] : local;
-    if (!eligible_(index)) return true;
-    items_.emplace_back(dist, index);
-    if (items_.size() == capacity_) {
-      bound_ = std::max_element(items_.begin(), items_.end())->first;
-    } else if (items_.size() >= 2 * capacity_) {
-      cut();
-    }
+    set_.add(dist, ids_ ? ids_[local] : local);
     return true;
   }
-  std::vector<std::pair<float, std::size_t>>& sorted_items() {
-    if (items_.size() > capacity_) cut();
-    std::sort(items_.begin(), items_.end());
-    return items_;
-  }
+  void finish(std::vector<std::pair<float, std::size_t>>& out) { set_.finish(out); }
 
  private:
-  void cut() {
-    std::nth_element(items_.begin(), items_.begin() + (capacity_ - 1), items_.end());
-    items_.resize(capacity_);
-    bound_ = items_.back().first;  // the k-th distance: nth_element put it last
-  }
-  std::size_t capacity_;
+  NearestSet<float> set_;
   const std::uint32_t* ids_ = nullptr;
-  float bound_ = std::numeric_limits<float>::max();
-  const std::function<bool(std::size_t)>& eligible_;
-  std::vector<std::pair<float, std::size_t>> items_;
 };
 
 // Searches asking for more than 1/kScanShare of the places scan instead of using the tree.
@@ -188,7 +166,7 @@ void KeyIndex::nearest(const float* key, std::size_t count,
     k.for_each_key([&](const float* x, std::uint32_t id) { d.emplace_back(dist(x), id); });
     EligibleKnn best(count, eligible);
     for (const auto& [di, id] : d) best.addPoint(di, id);
-    out.swap(best.sorted_items());
+    best.finish(out);
     return;
   }
   EligibleKnn result(count, eligible);
@@ -200,7 +178,7 @@ void KeyIndex::nearest(const float* key, std::size_t count,
   for (std::size_t i = k.tail_first; i < k.count; ++i) {
     result.addPoint(dist(&k.tail[(i - k.tail_first) * k.dims]), static_cast<std::uint32_t>(i));
   }
-  out.swap(result.sorted_items());
+  result.finish(out);
 }
 
 std::size_t KeyIndex::memory_bytes() const {

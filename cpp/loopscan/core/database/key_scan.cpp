@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "loopscan/core/database/key_scan_nearest.hpp"
+#include "loopscan/core/database/nearest_set.hpp"
 
 namespace loopscan {
 namespace {

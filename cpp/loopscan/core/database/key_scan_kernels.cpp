@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "loopscan/core/database/key_scan_nearest.hpp"
+#include "loopscan/core/database/nearest_set.hpp"
 #include "loopscan/core/simd.hpp"
 
 #if LOOPSCAN_HAVE_AVX2_CLONES

@@ -24,7 +24,13 @@ struct FloatBlockRef {
   std::uint32_t valid;
 };
 
-class Nearest;  // key_scan_nearest.hpp
+}  // namespace loopscan::key_scan
+namespace loopscan {
+template <class Distance>
+class NearestSet;  // nearest_set.hpp
+}  // namespace loopscan
+namespace loopscan::key_scan {
+using Nearest = NearestSet<std::uint32_t>;
 
 // queries: n_queries x pairs, each pair packed as (even dim) | (odd dim) << 16.
 void scan(const BlockRef* blocks, std::size_t n_blocks, int pairs, const std::uint32_t* queries,
