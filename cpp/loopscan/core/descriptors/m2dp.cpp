@@ -8,6 +8,7 @@
 #include "loopscan/core/descriptors/leading_singular.hpp"
 #include "loopscan/core/descriptors/m2dp_bins.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
+#include "loopscan/core/simd.hpp"
 
 namespace loopscan {
 namespace {
@@ -78,9 +79,9 @@ struct PolarBinner {
 
 // log1p of a count: counts are small integers, so a table of std::log1p (the same values),
 // grown on demand up to 2^16 entries.
-double log1p_count(double c, std::vector<double>& table) {
+LOOPSCAN_INLINE double log1p_count(double c, std::vector<double>& table) {
   if (c >= 0 && c < static_cast<double>(table.size())) {
-    const auto k = static_cast<std::size_t>(c);
+    const int k = static_cast<int>(c);  // the table holds at most 2^16 entries
     if (static_cast<double>(k) == c) return table[k];
   }
   constexpr double kMaxTable = 1 << 16;
@@ -170,28 +171,28 @@ void bin_soa(const PlanarCloud& soa, bool packed, const M2dpBinner& binner,
   }
 }
 
-// The matrices from plane-major counts and gray sums, row-major first (the loops then run
-// over contiguous rows) and one division a bin.
+// The matrices (column-major) from plane-major counts and gray sums: the divisions in one
+// contiguous loop (it vectorises), then both matrices written column by column.
 M2dpMatrices finish(const std::vector<double>& count, const std::vector<double>& gray,
                     Eigen::Index planes, Eigen::Index bins, double mean, bool log_counts) {
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  thread_local RowMajor counts, grays;
-  counts.resize(planes, bins);
-  grays.resize(planes, bins);
   const std::size_t n = count.size();
-  double* out_c = counts.data();
-  double* out_g = grays.data();
+  thread_local std::vector<double> above, table;
+  above.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double c = count[i], q = gray[i] / c;   // empty bins: inf or NaN, masked
-    out_g[i] = (c > 0) & (q > mean) ? 1.0 : 0.0;  // no branch: the loop vectorises
+    const double c = count[i], q = gray[i] / c;  // empty bins: inf or NaN, masked
+    above[i] = (c > 0) & (q > mean) ? 1.0 : 0.0;
   }
-  if (log_counts) {
-    thread_local std::vector<double> table;
-    for (std::size_t i = 0; i < n; ++i) out_c[i] = log1p_count(count[i], table);
-  } else {
-    std::copy(count.begin(), count.end(), out_c);
+  M2dpMatrices m{Eigen::MatrixXd(planes, bins), Eigen::MatrixXd(planes, bins)};
+  double* out_c = m.count.data();
+  double* out_g = m.gray.data();
+  for (Eigen::Index b = 0; b < bins; ++b) {
+    for (Eigen::Index k = 0; k < planes; ++k) {
+      const double c = count[k * bins + b];
+      out_c[b * planes + k] = log_counts ? log1p_count(c, table) : c;
+      out_g[b * planes + k] = above[k * bins + b];
+    }
   }
-  return {counts, grays};
+  return m;
 }
 
 }  // namespace
