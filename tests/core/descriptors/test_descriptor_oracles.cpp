@@ -2,10 +2,13 @@
 // one centre at a time), bit for bit, on random clouds and on points placed on bin boundaries.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <random>
 
 #include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/descriptors/leading_singular.hpp"
 #include "loopscan/core/descriptors/m2dp.hpp"
 #include "loopscan/core/descriptors/m2dp_bins.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
@@ -142,6 +145,31 @@ PlanarCloud planar(const Cloud& aligned) {
   return soa;
 }
 
+// Points whose projections on the planes land on ring circles and sector rays (to within the
+// rounding of the floats), where kernels that round differently disagree.
+void add_boundary_points(const M2dpConfig& cfg, const Eigen::Matrix3Xd& xa,
+                         const Eigen::Matrix3Xd& ya, std::mt19937& rng, Cloud& cloud) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (Eigen::Index k = 0; k < xa.cols(); ++k) {
+    const Eigen::Vector3d x = xa.col(k), y = ya.col(k);
+    if (x.squaredNorm() == 0 || y.squaredNorm() == 0) continue;
+    const Eigen::Vector3d n = x.cross(y).normalized();
+    for (int i = 0; i < 24; ++i) {
+      double r, a;
+      if (i % 2 == 0) {  // on a ring circle
+        r = (1 + static_cast<int>(u(rng) * cfg.radial_bins)) * cfg.max_radius_m / cfg.radial_bins;
+        a = 2 * M_PI * u(rng);
+      } else {  // on a sector ray
+        r = cfg.max_radius_m * u(rng);
+        a = static_cast<int>(u(rng) * cfg.azimuth_bins) * 2 * M_PI / cfg.azimuth_bins;
+      }
+      const Eigen::Vector3d p = r * std::cos(a) * x / x.squaredNorm() +
+                                r * std::sin(a) * y / y.squaredNorm() + 10 * (u(rng) - 0.5) * n;
+      cloud.push_back({p, static_cast<float>(std::floor(255 * u(rng)))});
+    }
+  }
+}
+
 // The packed integer accumulation (count and gray sum in one add) against the ordered double
 // sums, bit for bit, for gray values of every kind; and m2dp_matrices against the double path.
 TEST(M2dpOracle, PackedSumsEqualOrderedDoubleSums) {
@@ -156,6 +184,7 @@ TEST(M2dpOracle, PackedSumsEqualOrderedDoubleSums) {
   for (int kind = 0; kind < 5; ++kind) {
     for (int n : {2000, 2001, 6343}) {
       Cloud aligned = pca_align(test::street_cloud(kind + 1, n), Mode::Default);
+      add_boundary_points(cfg, xa, ya, rng, aligned);
       for (std::size_t i = 0; i < aligned.size(); ++i) {
         float& g = aligned[i].intensity;
         if (kind == 0) g = std::floor(u(rng));                    // gray levels
@@ -199,6 +228,34 @@ TEST(M2dpOracle, PackedSumsEqualOrderedDoubleSums) {
   }
   EXPECT_EQ(packed_runs, 9);
   EXPECT_EQ(plain_runs, 6);
+}
+
+// m2dp_signature (one SoA and one packing for the four flips) against its definition: each
+// flipped cloud through m2dp_matrices, both matrices compressed, bit for bit.
+TEST(M2dpOracle, SignatureEqualsFlippedMatricesCompressed) {
+  const M2dpConfig cfg;
+  for (int n : {1, 17, 2001, 6343}) {
+    Cloud scan = test::street_cloud(n, n);
+    if (n == 17) {
+      for (PointI& q : scan) q.intensity -= 100.f;  // negative: the double path
+    }
+    const Signature sig = m2dp_signature(scan, cfg);
+    const Cloud aligned = align_scan(scan, cfg.frame, cfg.mode);
+    int row = 0;
+    for (int sx = -1; sx <= 1; sx += 2) {
+      for (int sy = -1; sy <= 1; sy += 2) {
+        Cloud flipped = aligned;
+        for (PointI& q : flipped) q.p = Eigen::Vector3d(sx * q.p(0), sy * q.p(1), sx * sy * q.p(2));
+        const M2dpMatrices m = m2dp_matrices(flipped, cfg);
+        Eigen::RowVectorXd expected(sig.cols());
+        const SingularPair c = leading_singular_pair(m.count, cfg.mode);
+        const SingularPair g = leading_singular_pair(m.gray, cfg.mode);
+        expected << c.u.transpose(), c.v.transpose(), g.u.transpose(), g.v.transpose();
+        EXPECT_EQ(sig.row(row), expected) << n << " flip " << row;
+        ++row;
+      }
+    }
+  }
 }
 
 }  // namespace

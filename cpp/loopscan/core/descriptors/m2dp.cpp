@@ -1,12 +1,14 @@
 #include "loopscan/core/descriptors/m2dp.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "loopscan/core/descriptors/gray_mean.hpp"
 #include "loopscan/core/descriptors/leading_singular.hpp"
 #include "loopscan/core/descriptors/m2dp_bins.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
+#include "loopscan/core/simd.hpp"
 
 namespace loopscan {
 namespace {
@@ -75,9 +77,13 @@ struct PolarBinner {
   }
 };
 
-// log1p of a count: counts are small integers, so a table of std::log1p (the same values).
-double log1p_count(double c) {
-  thread_local std::vector<double> table;
+// log1p of a count: counts are small integers, so a table of std::log1p (the same values),
+// grown on demand up to 2^16 entries.
+LOOPSCAN_INLINE double log1p_count(double c, std::vector<double>& table) {
+  if (c >= 0 && c < static_cast<double>(table.size())) {
+    const int k = static_cast<int>(c);  // the table holds at most 2^16 entries
+    if (static_cast<double>(k) == c) return table[k];
+  }
   constexpr double kMaxTable = 1 << 16;
   if (!(c >= 0 && c < kMaxTable) || c != std::floor(c)) return std::log1p(c);
   const auto k = static_cast<std::size_t>(c);
@@ -120,43 +126,91 @@ void m2dp_plane_axes(const M2dpConfig& c, Eigen::Matrix3Xd& x_axes, Eigen::Matri
   }
 }
 
+namespace {
+
+// Default mode's SoA of the aligned cloud flipped by (sx, sy, sx sy), padded to whole vectors
+// (padding beyond the last ring). The flips are exact in float, so this is the SoA of the
+// flipped cloud.
+void fill_soa(const Cloud& aligned, float sx, float sy, PlanarCloud& soa) {
+  const std::size_t padded = (aligned.size() + 15) / 16 * 16;
+  soa.x.assign(padded, 1e30f);
+  soa.y.assign(padded, 0.f);
+  soa.z.assign(padded, 0.f);
+  soa.gray.assign(padded, 0.f);
+  for (std::size_t i = 0; i < aligned.size(); ++i) {
+    soa.x[i] = sx * static_cast<float>(aligned[i].p(0));
+    soa.y[i] = sy * static_cast<float>(aligned[i].p(1));
+    soa.z[i] = (sx * sy) * static_cast<float>(aligned[i].p(2));
+    soa.gray[i] = aligned[i].intensity;
+  }
+}
+
+// Default mode's counts and gray sums (plane-major rows) of `soa`: one integer add a point when
+// pack_gray succeeded (`packed`), else ordered double sums.
+void bin_soa(const PlanarCloud& soa, bool packed, const M2dpBinner& binner,
+             const Eigen::Matrix3Xd& x_axes, const Eigen::Matrix3Xd& y_axes, Eigen::Index bins,
+             std::vector<double>& count, std::vector<double>& gray) {
+  const Eigen::Index planes = x_axes.cols();
+  count.assign(planes * bins, 0.0);
+  gray.assign(planes * bins, 0.0);
+  if (!packed) {
+    for (Eigen::Index k = 0; k < planes; ++k) {
+      binner.accumulate(soa, x_axes.col(k), y_axes.col(k), &count[k * bins], &gray[k * bins]);
+    }
+    return;
+  }
+  thread_local std::vector<long long> acc;
+  acc.assign(planes * bins, 0);
+  for (Eigen::Index k = 0; k < planes; ++k) {
+    binner.accumulate_packed(soa, x_axes.col(k), y_axes.col(k), &acc[k * bins]);
+  }
+  const long long low_bits = (1LL << soa.count_shift) - 1;
+  for (std::size_t i = 0; i < acc.size(); ++i) {
+    count[i] = static_cast<double>(acc[i] >> soa.count_shift);
+    gray[i] = static_cast<double>(acc[i] & low_bits) * soa.gray_unit;
+  }
+}
+
+// The matrices (column-major) from plane-major counts and gray sums: the divisions in one
+// contiguous loop (it vectorises), then both matrices written column by column.
+M2dpMatrices finish(const std::vector<double>& count, const std::vector<double>& gray,
+                    Eigen::Index planes, Eigen::Index bins, double mean, bool log_counts) {
+  const std::size_t n = count.size();
+  thread_local std::vector<double> above, table;
+  above.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double c = count[i], q = gray[i] / c;  // empty bins: inf or NaN, masked
+    above[i] = (c > 0) & (q > mean) ? 1.0 : 0.0;
+  }
+  M2dpMatrices m{Eigen::MatrixXd(planes, bins), Eigen::MatrixXd(planes, bins)};
+  double* out_c = m.count.data();
+  double* out_g = m.gray.data();
+  for (Eigen::Index b = 0; b < bins; ++b) {
+    for (Eigen::Index k = 0; k < planes; ++k) {
+      const double c = count[k * bins + b];
+      out_c[b * planes + k] = log_counts ? log1p_count(c, table) : c;
+      out_g[b * planes + k] = above[k * bins + b];
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
 M2dpMatrices m2dp_matrices(const Cloud& aligned, const M2dpConfig& config) {
   Eigen::Matrix3Xd x_axes, y_axes;
   m2dp_plane_axes(config, x_axes, y_axes);
   const Eigen::Index planes = x_axes.cols(), bins = config.azimuth_bins * config.radial_bins;
-  // Row-major accumulators (plane-major), copied into the Eigen matrices at the end.
-  std::vector<double> count(planes * bins, 0.0), gray(planes * bins, 0.0);
+  std::vector<double> count, gray;
   const M2dpBinner fast(config.azimuth_bins, config.radial_bins, config.max_radius_m);
   if (config.mode == Mode::Default && fast.usable()) {
     thread_local PlanarCloud soa;
-    const std::size_t padded = (aligned.size() + 15) / 16 * 16;
-    soa.x.assign(padded, 1e30f);  // padding lands beyond the last ring
-    soa.y.assign(padded, 0.f);
-    soa.z.assign(padded, 0.f);
-    soa.gray.assign(padded, 0.f);
-    for (std::size_t i = 0; i < aligned.size(); ++i) {
-      soa.x[i] = static_cast<float>(aligned[i].p(0));
-      soa.y[i] = static_cast<float>(aligned[i].p(1));
-      soa.z[i] = static_cast<float>(aligned[i].p(2));
-      soa.gray[i] = aligned[i].intensity;
-    }
-    if (pack_gray(soa, padded)) {  // one integer add a point counts and sums it, exactly
-      thread_local std::vector<long long> acc;
-      acc.assign(planes * bins, 0);
-      for (Eigen::Index k = 0; k < planes; ++k) {
-        fast.accumulate_packed(soa, x_axes.col(k), y_axes.col(k), &acc[k * bins]);
-      }
-      const long long low_bits = (1LL << soa.count_shift) - 1;
-      for (std::size_t i = 0; i < acc.size(); ++i) {
-        count[i] = static_cast<double>(acc[i] >> soa.count_shift);
-        gray[i] = static_cast<double>(acc[i] & low_bits) * soa.gray_unit;
-      }
-    } else {
-      for (Eigen::Index k = 0; k < planes; ++k) {
-        fast.accumulate(soa, x_axes.col(k), y_axes.col(k), &count[k * bins], &gray[k * bins]);
-      }
-    }
+    fill_soa(aligned, 1.f, 1.f, soa);
+    const bool packed = pack_gray(soa, soa.x.size());
+    bin_soa(soa, packed, fast, x_axes, y_axes, bins, count, gray);
   } else {
+    count.assign(planes * bins, 0.0);
+    gray.assign(planes * bins, 0.0);
     const PolarBinner binner(config);
     for (Eigen::Index k = 0; k < planes; ++k) {
       const Eigen::Vector3d xa = x_axes.col(k), ya = y_axes.col(k);
@@ -168,19 +222,10 @@ M2dpMatrices m2dp_matrices(const Cloud& aligned, const M2dpConfig& config) {
       }
     }
   }
-  M2dpMatrices m{Eigen::MatrixXd(planes, bins), Eigen::MatrixXd(planes, bins)};
-  const double mean = cloud_gray_mean(aligned, config.mode);
   // Default mode compresses log(1 + count): with raw counts the singular vectors follow the
   // densest bins, whose density is what two VO runs share least.
-  const bool log_counts = config.mode == Mode::Default;
-  for (Eigen::Index k = 0; k < planes; ++k) {
-    for (Eigen::Index b = 0; b < bins; ++b) {
-      const double c = count[k * bins + b], g = gray[k * bins + b];
-      m.count(k, b) = log_counts ? log1p_count(c) : c;
-      m.gray(k, b) = c > 0 ? (g / c > mean ? 1.0 : 0.0) : 0.0;
-    }
-  }
-  return m;
+  return finish(count, gray, planes, bins, cloud_gray_mean(aligned, config.mode),
+                config.mode == Mode::Default);
 }
 
 Signature m2dp_signature(const Cloud& scan, const M2dpConfig& config) {
@@ -188,7 +233,37 @@ Signature m2dp_signature(const Cloud& scan, const M2dpConfig& config) {
   const int planes = config.plane_azimuths * config.plane_elevations;
   const int half = planes + config.azimuth_bins * config.radial_bins;
   Signature sig = Signature::Zero(4, 2 * half);
-  const Cloud aligned = align_scan(scan, config.frame, config.mode);
+  thread_local Cloud aligned;
+  align_scan(scan, config.frame, config.mode, aligned);
+  const M2dpBinner fast(config.azimuth_bins, config.radial_bins, config.max_radius_m);
+  if (config.mode == Mode::Default && fast.usable()) {
+    // m2dp_matrices of each flipped cloud, with what the flips leave unchanged done once: the
+    // planes, the gray mean and the packed gray values (the same for every flip).
+    Eigen::Matrix3Xd x_axes, y_axes;
+    m2dp_plane_axes(config, x_axes, y_axes);
+    const Eigen::Index bins = config.azimuth_bins * config.radial_bins;
+    const double mean = cloud_gray_mean(aligned, config.mode);
+    thread_local PlanarCloud soa;
+    thread_local std::vector<double> count, gray;
+    fill_soa(aligned, 1.f, 1.f, soa);
+    const bool packed = pack_gray(soa, soa.x.size());
+    int row = 0;
+    for (int sx = -1; sx <= 1; sx += 2) {
+      for (int sy = -1; sy <= 1; sy += 2) {
+        for (std::size_t i = 0; i < aligned.size(); ++i) {
+          soa.x[i] = sx * static_cast<float>(aligned[i].p(0));
+          soa.y[i] = sy * static_cast<float>(aligned[i].p(1));
+          soa.z[i] = (sx * sy) * static_cast<float>(aligned[i].p(2));
+        }
+        bin_soa(soa, packed, fast, x_axes, y_axes, bins, count, gray);
+        const M2dpMatrices m = finish(count, gray, planes, bins, mean, true);
+        sig.row(row).head(half) = compressed(m.count, config.mode);
+        sig.row(row).tail(half) = compressed(m.gray, config.mode);
+        ++row;
+      }
+    }
+    return sig;
+  }
   Cloud flipped(aligned.size());
   int row = 0;
   for (int sx = -1; sx <= 1; sx += 2) {

@@ -4,6 +4,10 @@
 
 #include "loopscan/core/simd.hpp"
 
+#if LOOPSCAN_HAVE_AVX2_CLONES
+#include <immintrin.h>
+#endif
+
 namespace loopscan {
 namespace {
 
@@ -108,6 +112,74 @@ LOOPSCAN_AVX2 void kernel_avx2(std::size_t rays, const PlanarCloud& c, const flo
   dispatch_rays<32>(rays, c, axes, ring_inv, rings, shift, rc, rs, g, cr, gr);
 }
 
+#if LOOPSCAN_HAVE_AVX2_CLONES
+// The packed path with AVX-512 intrinsics, 16 points at a time (GCC's 64-byte vector code for
+// bin_kernel turns the mask logic into scalar code). Every lane computes what bin_kernel's
+// AVX2 clone computes, operation for operation (the multiply-adds GCC fuses there, read from
+// its code), so the bins are the same; M2dpOracle checks it on points placed on the bin
+// boundaries. The slots go through memory instead of lane extracts.
+template <int kRays>
+LOOPSCAN_AVX512 void packed_avx512(const PlanarCloud& c, const float (&axes)[6], float ring_inv,
+                                   int rings, int shift, const float* ray_cos, const float* ray_sin,
+                                   long long* packed_row) {
+  constexpr int kPerQuadrant = kRays + 1;
+  constexpr __mmask16 kAll = 0xffff;  // maskz forms: GCC 12 warns about the plain ones' undefined
+  const __m512 zero = _mm512_setzero_ps(), sign = _mm512_set1_ps(-0.f);
+  const __m512 a0 = _mm512_set1_ps(axes[0]), a1 = _mm512_set1_ps(axes[1]);
+  const __m512 a2 = _mm512_set1_ps(axes[2]), a3 = _mm512_set1_ps(axes[3]);
+  const __m512 a4 = _mm512_set1_ps(axes[4]), a5 = _mm512_set1_ps(axes[5]);
+  const __m512 inv = _mm512_set1_ps(ring_inv), rings_f = _mm512_set1_ps(float(rings));
+  const __m512i rings_i = _mm512_set1_epi32(rings), one = _mm512_set1_epi32(1);
+  const int bins = rings << shift;
+  const __m512i spare = _mm512_set1_epi32(bins);
+  // Odd lanes add into the second copy of the row, as bin_kernel does.
+  const __m512i copy =
+      _mm512_mullo_epi32(_mm512_set_epi32(1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0),
+                         _mm512_set1_epi32(bins + 1));
+  __m512 rc[kRays > 0 ? kRays : 1], rs[kRays > 0 ? kRays : 1];
+  for (int j = 0; j < kRays; ++j) {
+    rc[j] = _mm512_set1_ps(ray_cos[j]);
+    rs[j] = _mm512_set1_ps(ray_sin[j]);
+  }
+  alignas(64) int at[16];
+  const long long* packed = c.packed.data();
+  for (std::size_t i = 0; i < c.x.size(); i += 16) {
+    const __m512 px = _mm512_loadu_ps(&c.x[i]), py = _mm512_loadu_ps(&c.y[i]),
+                 pz = _mm512_loadu_ps(&c.z[i]);
+    // GCC contracts a * b + c * d into fma(a, b, c * d).
+    const __m512 xp = _mm512_fmadd_ps(a2, pz, _mm512_fmadd_ps(a0, px, _mm512_mul_ps(a1, py)));
+    const __m512 yp = _mm512_fmadd_ps(a5, pz, _mm512_fmadd_ps(a3, px, _mm512_mul_ps(a4, py)));
+    const __m512 r2 = _mm512_fmadd_ps(xp, xp, _mm512_mul_ps(yp, yp));
+    const __m512 rf = _mm512_mul_ps(_mm512_maskz_sqrt_ps(kAll, r2), inv);
+    const __mmask16 below = _mm512_cmp_ps_mask(rf, rings_f, _CMP_LT_OQ);
+    const __m512i ring = _mm512_maskz_cvttps_epi32(kAll, _mm512_mask_blend_ps(below, rings_f, rf));
+    __m512 u = _mm512_xor_ps(xp, sign), v = _mm512_xor_ps(yp, sign);
+    const __mmask16 lower =
+        _mm512_cmp_ps_mask(v, zero, _CMP_LT_OQ) |
+        (_mm512_cmp_ps_mask(v, zero, _CMP_EQ_OQ) & _mm512_cmp_ps_mask(u, zero, _CMP_LT_OQ));
+    u = _mm512_mask_xor_ps(u, lower, u, sign);
+    v = _mm512_mask_xor_ps(v, lower, v, sign);
+    const __mmask16 second =
+        _mm512_cmp_ps_mask(u, zero, _CMP_LE_OQ) & _mm512_cmp_ps_mask(v, zero, _CMP_GT_OQ);
+    const __m512 u2 = _mm512_mask_blend_ps(second, u, v);
+    const __m512 v2 = _mm512_mask_blend_ps(second, v, _mm512_xor_ps(u, sign));
+    __m512i sector = _mm512_maskz_mov_epi32(lower, _mm512_set1_epi32(2 * kPerQuadrant));
+    sector = _mm512_mask_add_epi32(sector, second, sector, _mm512_set1_epi32(kPerQuadrant));
+    for (int j = 0; j < kRays; ++j) {
+      const __mmask16 past =
+          _mm512_cmp_ps_mask(_mm512_mul_ps(v2, rc[j]), _mm512_mul_ps(u2, rs[j]), _CMP_GE_OQ);
+      sector = _mm512_mask_add_epi32(sector, past, sector, one);
+    }
+    const __mmask16 valid = _mm512_cmplt_epi32_mask(ring, rings_i);
+    const __m512i bin =
+        _mm512_add_epi32(_mm512_maskz_sllv_epi32(kAll, ring, _mm512_set1_epi32(shift)), sector);
+    _mm512_store_si512(at, _mm512_add_epi32(_mm512_mask_blend_epi32(valid, spare, bin), copy));
+    __asm__ volatile("" : : "m"(at) : "memory");  // reload the slots: no lane extracts
+    for (int l = 0; l < 16; ++l) packed_row[at[l]] += packed[i + l];
+  }
+}
+#endif
+
 }  // namespace
 
 void M2dpBinner::accumulate(const PlanarCloud& c, const Eigen::Vector3d& xa,
@@ -115,6 +187,22 @@ void M2dpBinner::accumulate(const PlanarCloud& c, const Eigen::Vector3d& xa,
   const float axes[6] = {float(xa(0)), float(xa(1)), float(xa(2)),
                          float(ya(0)), float(ya(1)), float(ya(2))};
   const float ring_inv = static_cast<float>(rings_ / max_radius_);
+#if LOOPSCAN_HAVE_AVX2_CLONES
+  if (!count_row && simd::has_avx512()) {
+    auto* row = reinterpret_cast<long long*>(gray_row);
+    const float *rc = ray_cos_.data(), *rs = ray_sin_.data();
+    switch (ray_cos_.size()) {
+      case 1:
+        return packed_avx512<1>(c, axes, ring_inv, rings_, shift_, rc, rs, row);
+      case 3:
+        return packed_avx512<3>(c, axes, ring_inv, rings_, shift_, rc, rs, row);
+      case 7:
+        return packed_avx512<7>(c, axes, ring_inv, rings_, shift_, rc, rs, row);
+      default:
+        return packed_avx512<0>(c, axes, ring_inv, rings_, shift_, rc, rs, row);
+    }
+  }
+#endif
   auto* kernel = simd::has_avx2() ? kernel_avx2 : kernel_base;
   kernel(ray_cos_.size(), c, axes, ring_inv, rings_, shift_, ray_cos_.data(), ray_sin_.data(),
          c.gray.data(), count_row, gray_row);

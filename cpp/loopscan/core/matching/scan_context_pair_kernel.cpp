@@ -1,6 +1,6 @@
 // Pair kernel: (1) element-wise products of the packed query (and its ring-swapped copy) with
 // the place, summed over the rings, give the ring-summed correlation and convolution spectra;
-// (2) an inverse real DFT evaluated for shifts m and S - m at once (A + B and A - B) gives the
+// (2) an inverse real DFT evaluated for shifts m, S - m, S/2 - m and S/2 + m at once gives the
 // best dot. The default 60 sectors get a vectorised instantiation; other sizes a scalar path.
 #include "loopscan/core/matching/scan_context_pair_kernel.hpp"
 
@@ -24,14 +24,15 @@ void ring_sums_scalar(const float* q, const float* p, int rings, int S, float* a
   }
 }
 
-// Both ring sums for S = 60 with vectors: a block of lcm(S, lanes) floats is 15 vectors; five
-// of them at a time keep 10 accumulators in registers and load each place vector once for
-// the two products. The blocks are folded back to S sums at the end.
+// Both ring sums for S = 60 with vectors: blocks of 240 floats (four rings; 15 vectors of 16,
+// 30 of 8 or 60 of 4, so every width sums each lane in the same order); five vectors at a time
+// keep 10 accumulators in registers and load each place vector once for the two products.
+// The blocks are folded back to S sums at the end.
 template <int W>
 LOOPSCAN_INLINE void ring_sums_60(const float* q, const float* qs, const float* p, int rings,
                                   float* a1, float* a2) {
   using V = typename simd::Vec<float, W>::type;
-  constexpr int kV = simd::Vec<float, W>::kLanes, kNV = 15, kBlock = kNV * kV, kGroup = 5;
+  constexpr int kV = simd::Vec<float, W>::kLanes, kBlock = 240, kNV = kBlock / kV, kGroup = 5;
   constexpr int S = kFastSectors, kRingsPerBlock = kBlock / S;
   const int blocks = rings / kRingsPerBlock;
   alignas(32) float buf1[kBlock], buf2[kBlock];
@@ -84,68 +85,41 @@ LOOPSCAN_INLINE void cross_spectra(const float* a1, const float* a2, int S, floa
   }
 }
 
-// max over m <= S/2 of A_m + |B_m| with A = sum_k re_k ic[k][m], B = sum_k im_k is[k][m]:
-// shifts m and S - m are A + B and A - B.
-template <int W, int MV>
-LOOPSCAN_INLINE float best_of_inverse(const float* re, const float* im, int K, const float* ic,
-                                      const float* is, int M) {
+// The best dot over every shift of both spectra (correlation c, convolution v), from m < 16
+// only: with A_m = sum_k re_k ic[k][m] and B_m = sum_k im_k is[k][m], shifts m and S - m are
+// A + B and A - B; and as ic[k][S/2 - m] = (-1)^k ic[k][m], is[k][S/2 - m] = -(-1)^k is[k][m],
+// shifts S/2 -+ m are (A_e - A_o) -+ (B_o - B_e) from the even-k and odd-k sums. Half the
+// multiply-adds of the plain product, in another order (the last bits of the dot differ).
+// Each lane sums in the same order at any W, so every instantiation gives the same bits.
+template <int W>
+LOOPSCAN_INLINE float best_of_inverse_sym(const float* cre, const float* cim, const float* vre,
+                                          const float* vim, int K, const float* ic, const float* is,
+                                          int mp) {
   using V = typename simd::Vec<float, W>::type;
-  constexpr int kV = simd::Vec<float, W>::kLanes, kMP = MV * kV;
-  V A[MV], B[MV];
-  for (int v = 0; v < MV; ++v) A[v] = B[v] = V{};
-  for (int k = 0; k < K; ++k) {
-    const float a = re[k], b = im[k];
-    for (int v = 0; v < MV; ++v) {
-      A[v] += a * simd::load<V>(ic + k * kMP + v * kV);
-      B[v] += b * simd::load<V>(is + k * kMP + v * kV);
-    }
-  }
-  // Lanes m >= M are padding (zero tables): pushed far below any dot product.
-  V best = A[0] + (B[0] < 0 ? -B[0] : B[0]);
-  for (int v = 1; v < MV; ++v) {
-    V x = A[v] + (B[v] < 0 ? -B[v] : B[v]);
-    if ((v + 1) * kV > M) {
-      for (int l = 0; l < kV; ++l) {
-        if (v * kV + l >= M) x[l] = -1e30f;
-      }
-    }
-    best = best > x ? best : x;
-  }
-  float m = best[0];
-  for (int l = 1; l < kV; ++l) m = m > best[l] ? m : best[l];
-  return m;
-}
-
-// Both spectra (correlation c, convolution v) in one pass: eight chains of multiply-adds
-// instead of four (a 64-byte W has only two vectors of m), each lane summing in the same order.
-template <int W, int MV>
-LOOPSCAN_INLINE float best_of_inverse_pair(const float* cre, const float* cim, const float* vre,
-                                           const float* vim, int K, const float* ic,
-                                           const float* is, int M) {
-  using V = typename simd::Vec<float, W>::type;
-  constexpr int kV = simd::Vec<float, W>::kLanes, kMP = MV * kV;
-  V A[MV], B[MV], C[MV], D[MV];
-  for (int v = 0; v < MV; ++v) A[v] = B[v] = C[v] = D[v] = V{};
-  for (int k = 0; k < K; ++k) {
-    const float a = cre[k], b = cim[k], c = vre[k], d = vim[k];
-    for (int v = 0; v < MV; ++v) {
-      const V icv = simd::load<V>(ic + k * kMP + v * kV),
-              isv = simd::load<V>(is + k * kMP + v * kV);
-      A[v] += a * icv;
-      B[v] += b * isv;
-      C[v] += c * icv;
-      D[v] += d * isv;
-    }
-  }
+  constexpr int kV = simd::Vec<float, W>::kLanes, kMV = 16 / kV;
+  const auto mag = [](V x) { return x < 0 ? -x : x; };
   V best = V{} - 1e30f;
-  for (int v = 0; v < MV; ++v) {
-    V x = A[v] + (B[v] < 0 ? -B[v] : B[v]);
-    V y = C[v] + (D[v] < 0 ? -D[v] : D[v]);
-    x = x > y ? x : y;
-    for (int l = 0; l < kV; ++l) {
-      if (v * kV + l >= M) x[l] = -1e30f;  // padding lanes
+  for (int v = 0; v < kMV; ++v) {
+    V ae{}, ao{}, be{}, bo{}, ce{}, co{}, de{}, dd{};
+    for (int k = 0; k < K; k += 2) {
+      const V icv = simd::load<V>(ic + k * mp + v * kV), isv = simd::load<V>(is + k * mp + v * kV);
+      ae += cre[k] * icv;
+      be += cim[k] * isv;
+      ce += vre[k] * icv;
+      de += vim[k] * isv;
+      if (k + 1 == K) break;
+      const V ic1 = simd::load<V>(ic + (k + 1) * mp + v * kV),
+              is1 = simd::load<V>(is + (k + 1) * mp + v * kV);
+      ao += cre[k + 1] * ic1;
+      bo += cim[k + 1] * is1;
+      co += vre[k + 1] * ic1;
+      dd += vim[k + 1] * is1;
     }
+    const V x1 = (ae + ao) + mag(be + bo), x2 = (ae - ao) + mag(be - bo);
+    const V y1 = (ce + co) + mag(de + dd), y2 = (ce - co) + mag(de - dd);
+    const V x = x1 > x2 ? x1 : x2, y = y1 > y2 ? y1 : y2;
     best = best > x ? best : x;
+    best = best > y ? best : y;
   }
   float m = best[0];
   for (int l = 1; l < kV; ++l) m = m > best[l] ? m : best[l];
@@ -168,32 +142,27 @@ float best_of_inverse_scalar(const float* re, const float* im, int K, const floa
 
 using KernelArgs = ScanContextPairArgs;
 
-// W: the inverse DFT's vector width; the ring sums stay at most 32 bytes wide, so a wider
-// instantiation sums in the same order and gives the same bits (its lanes are independent).
+// W: the vector width; every lane sums in the same order at any W, so the AVX-512 and AVX2
+// instantiations give the same bits (the SSE2 one differs by the rounding of unfused FMAs).
 template <int W>
 LOOPSCAN_INLINE void best_dots_impl(const KernelArgs& k, const float* q, const float* qs,
                                     const float* p, float best[2]) {
   const int S = k.sectors, R = k.rings, H = S / 2, K = H + 1;
   const bool fast = S == kFastSectors;
-  constexpr int kMV = 32 / simd::Vec<float, W>::kLanes;  // 32 padded m for S = 60
-  constexpr int kSumW = W < 32 ? W : 32;
   float a1[kMaxSectors], a2[kMaxSectors];
   float cre[kMaxSectors / 2 + 1], cim[kMaxSectors / 2 + 1];
   float vre[kMaxSectors / 2 + 1], vim[kMaxSectors / 2 + 1];
   for (int c = 0; c < 2; ++c) {
     const std::size_t off = static_cast<std::size_t>(c) * R * S;
     if (fast) {
-      ring_sums_60<kSumW>(q + off, qs + off, p + off, R, a1, a2);
+      ring_sums_60<W>(q + off, qs + off, p + off, R, a1, a2);
     } else {
       ring_sums_scalar(q + off, p + off, R, S, a1);
       ring_sums_scalar(qs + off, p + off, R, S, a2);
     }
     cross_spectra(a1, a2, S, cre, cim, vre, vim);
-    if (fast && W == 64) {
-      best[c] = best_of_inverse_pair<W, kMV>(cre, cim, vre, vim, K, k.inv_cos, k.inv_sin, K);
-    } else if (fast) {
-      best[c] = std::max(best_of_inverse<W, kMV>(cre, cim, K, k.inv_cos, k.inv_sin, K),
-                         best_of_inverse<W, kMV>(vre, vim, K, k.inv_cos, k.inv_sin, K));
+    if (fast) {
+      best[c] = best_of_inverse_sym<W>(cre, cim, vre, vim, K, k.inv_cos, k.inv_sin, k.m_padded);
     } else {
       best[c] = std::max(best_of_inverse_scalar(cre, cim, K, k.inv_cos, k.inv_sin, K, k.m_padded),
                          best_of_inverse_scalar(vre, vim, K, k.inv_cos, k.inv_sin, K, k.m_padded));

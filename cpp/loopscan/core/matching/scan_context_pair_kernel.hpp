@@ -1,6 +1,7 @@
 #pragma once
 // The pair kernel behind ScanContextSpectra::best_dots (scan_context_pair_kernel.cpp), picked
-// at run time for the CPU (AVX-512, AVX2+FMA or the SSE2 baseline; the same bits on each).
+// at run time for the CPU (AVX-512, AVX2+FMA or the SSE2 baseline; the same bits on the first
+// two, the baseline rounds its unfused multiply-adds).
 namespace loopscan {
 
 inline constexpr int kMaxSpectraSectors = 512;
