@@ -172,3 +172,34 @@ TEST(CompactDatabase, OnlyScanContextPlacesMayBeCompact) {
 
 }  // namespace
 }  // namespace loopscan
+
+namespace loopscan {
+namespace {
+
+// More rings than the coarse key has dimensions for (they are averaged in groups): indexed
+// queries still find a noisy copy of a place.
+TEST(CompactDatabase, ManyRingsStillIndex) {
+  DatabaseConfig config;
+  config.scan_context.rings = 45;
+  config.scan_context.sectors = 20;
+  Database db(config);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Signature> places;
+  for (int i = 0; i < 200; ++i) {
+    Signature s(1, 2 * 45 * 20);
+    for (Eigen::Index j = 0; j < s.size(); ++j) s(j) = u(rng) < 0.3 ? u(rng) : 0.0;
+    places.push_back(s);
+    db.add({0, i}, {s});
+  }
+  for (int i = 0; i < 200; i += 20) {
+    Signature q = places[i];
+    for (Eigen::Index j = 0; j < q.size(); ++j) q(j) *= 1 + 0.05 * (u(rng) - 0.5);
+    const auto got = db.query({q}, 1);
+    ASSERT_EQ(got.size(), 1u);
+    EXPECT_EQ(got[0].index, static_cast<std::size_t>(i));
+  }
+}
+
+}  // namespace
+}  // namespace loopscan

@@ -70,7 +70,7 @@ class ScanContextStore final : public PlaceStore {
         shape_{2 * config.rings, config.sectors},
         key_dims_(key_dims(config)),
         keys_(key_floats(config)),
-        index_(2 * config.rings) {}
+        index_(2 * coarse_rings(config.rings)) {}
 
   int components() const override { return 2; }
 
@@ -250,11 +250,25 @@ class ScanContextStore final : public PlaceStore {
   // KeyScan's range). Summing rings in pairs (a 10-D key, for a KD-tree) lost the exact best
   // place among near-identical ones; the intensity terms separate places across seasons
   // (README, "Place database").
+  // More than KeyScan::kMaxDims / 2 rings are averaged in consecutive groups.
+  static int coarse_group(int rings) {
+    return (2 * rings + KeyScan::kMaxDims - 1) / KeyScan::kMaxDims;
+  }
+  static int coarse_rings(int rings) {
+    const int g = coarse_group(rings);
+    return (rings + g - 1) / g;
+  }
   std::vector<std::uint16_t> coarse_key(const std::vector<std::uint16_t>& key) const {
-    const int R = spectra_.rings(), per_ring = 1 + kKeyFrequencies;
+    const int R = spectra_.rings(), per_ring = 1 + kKeyFrequencies, g = coarse_group(R);
     std::vector<std::uint16_t> out;
-    for (int r = 0; r < R; ++r) out.push_back(key[r] >> 3);
-    for (int r = 0; r < R; ++r) out.push_back(key[R + (per_ring - 1) * R + per_ring * r] >> 3);
+    for (int half = 0; half < 2; ++half) {
+      for (int r0 = 0; r0 < R; r0 += g) {
+        std::uint32_t sum = 0;
+        const int end = std::min(R, r0 + g);
+        for (int r = r0; r < end; ++r) sum += half == 0 ? key[r] : key[3 * R + per_ring * r];
+        out.push_back(static_cast<std::uint16_t>(sum / static_cast<std::uint32_t>(end - r0) >> 3));
+      }
+    }
     return out;
   }
   static std::size_t key_floats(const ScanContextConfig& c) { return (key_dims(c) + 1) / 2; }
