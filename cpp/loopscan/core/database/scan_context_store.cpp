@@ -19,32 +19,14 @@
 #include "loopscan/core/database/compact_spectra.hpp"
 #include "loopscan/core/database/key_scan.hpp"
 #include "loopscan/core/database/place_store.hpp"
+#include "loopscan/core/database/scan_context_keys.hpp"
 #include "loopscan/core/simd.hpp"
 
 namespace loopscan {
 namespace {
 
-constexpr int kKeyFrequencies = 2;
+constexpr int kKeyFrequencies = kSpectralKeyFrequencies;
 constexpr float kKeyScale = 8192.f;  // quantisation of the spectral key (see spectral_key)
-
-// Squared distance of two uint16 keys, exact (|d|^2 < 2^32 fits a uint32; the sum a uint64),
-// compiled for AVX2 and for the baseline.
-LOOPSCAN_INLINE std::uint64_t key_distance_impl(const std::uint16_t* __restrict a,
-                                                const std::uint16_t* __restrict b, std::size_t n) {
-  std::uint64_t e = 0;
-  for (std::size_t t = 0; t < n; ++t) {
-    const std::uint32_t d = a[t] > b[t] ? a[t] - b[t] : b[t] - a[t];
-    e += static_cast<std::uint64_t>(d * d);
-  }
-  return e;
-}
-std::uint64_t key_distance_base(const std::uint16_t* a, const std::uint16_t* b, std::size_t n) {
-  return key_distance_impl(a, b, n);
-}
-LOOPSCAN_AVX2 std::uint64_t key_distance_avx2(const std::uint16_t* a, const std::uint16_t* b,
-                                              std::size_t n) {
-  return key_distance_impl(a, b, n);
-}
 
 class ScanContextStore final : public PlaceStore {
   // Index keys of one query version.
@@ -70,7 +52,7 @@ class ScanContextStore final : public PlaceStore {
         shape_{2 * config.rings, config.sectors},
         key_dims_(key_dims(config)),
         keys_(key_floats(config)),
-        index_(2 * coarse_rings(config.rings)) {}
+        index_(coarse_key_dims(config.rings)) {}
 
   int components() const override { return 2; }
 
@@ -106,7 +88,7 @@ class ScanContextStore final : public PlaceStore {
     std::vector<std::uint16_t> key(key_dims_);
     for (std::size_t i = index_.size(); i < n; ++i) {
       std::memcpy(key.data(), keys_.at(i), key_dims_ * 2);
-      index_.add(coarse_key(key).data());
+      index_.add(coarse_key(key, spectra_.rings()).data());
     }
   }
 
@@ -116,7 +98,7 @@ class ScanContextStore final : public PlaceStore {
     for (const ScanContextSpectra::Query& v : q->versions) {
       Keys k;
       k.key = spectral_key(v.packed.data());
-      k.coarse = coarse_key(k.key);
+      k.coarse = coarse_key(k.key, spectra_.rings());
       q->keys.push_back(std::move(k));
     }
     return q;
@@ -152,7 +134,7 @@ class ScanContextStore final : public PlaceStore {
       const Keys& q = sq.keys[v];
       const auto& near = pools[v];
       ranked.clear();
-      static const auto key_distance = simd::has_avx2() ? key_distance_avx2 : key_distance_base;
+
       const std::size_t dims = q.key.size();
       std::vector<std::uint16_t> key(dims);
       // The candidates' keys are scattered over the arena: fetch a few ahead.
@@ -166,8 +148,8 @@ class ScanContextStore final : public PlaceStore {
         if (j + kAhead < near.size()) prefetch(j + kAhead);
         const std::size_t i = near[j].second;
         std::memcpy(key.data(), keys_.at(i), dims * 2);
-        ranked.emplace_back(static_cast<std::int64_t>(key_distance(q.key.data(), key.data(), dims)),
-                            i);
+        ranked.emplace_back(
+            static_cast<std::int64_t>(spectral_key_distance(q.key.data(), key.data(), dims)), i);
       }
       const std::size_t n = std::min(count, ranked.size());
       std::partial_sort(ranked.begin(), ranked.begin() + n, ranked.end());
@@ -244,32 +226,6 @@ class ScanContextStore final : public PlaceStore {
     }
     out[0] = (1.0 - double(best[0])) / 2.0;
     out[1] = (1.0 - double(best[1])) / 2.0;
-  }
-  // The coarse key: the DC terms of every ring of both halves (Scan Context's ring key and
-  // its intensity counterpart), taken from the spectral key in steps of 8 / 8192 (13 bits,
-  // KeyScan's range). Summing rings in pairs (a 10-D key, for a KD-tree) lost the exact best
-  // place among near-identical ones; the intensity terms separate places across seasons
-  // (README, "Place database").
-  // More than KeyScan::kMaxDims / 2 rings are averaged in consecutive groups.
-  static int coarse_group(int rings) {
-    return (2 * rings + KeyScan::kMaxDims - 1) / KeyScan::kMaxDims;
-  }
-  static int coarse_rings(int rings) {
-    const int g = coarse_group(rings);
-    return (rings + g - 1) / g;
-  }
-  std::vector<std::uint16_t> coarse_key(const std::vector<std::uint16_t>& key) const {
-    const int R = spectra_.rings(), per_ring = 1 + kKeyFrequencies, g = coarse_group(R);
-    std::vector<std::uint16_t> out;
-    for (int half = 0; half < 2; ++half) {
-      for (int r0 = 0; r0 < R; r0 += g) {
-        std::uint32_t sum = 0;
-        const int end = std::min(R, r0 + g);
-        for (int r = r0; r < end; ++r) sum += half == 0 ? key[r] : key[3 * R + per_ring * r];
-        out.push_back(static_cast<std::uint16_t>(sum / static_cast<std::uint32_t>(end - r0) >> 3));
-      }
-    }
-    return out;
   }
   static std::size_t key_floats(const ScanContextConfig& c) { return (key_dims(c) + 1) / 2; }
   static std::size_t key_dims(const ScanContextConfig& c) {
