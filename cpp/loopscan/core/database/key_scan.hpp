@@ -7,10 +7,10 @@
 // when the count reaches 256, 1024, 4096, ...).
 // Up to `cells_from` places every key is scanned: the answer is exact. From there on the keys
 // are grouped into cells around k-means centres (trained on the keys when the count reaches
-// cells_from, and again each time it quadruples; about sqrt(n)/2 cells) and a query key scans
-// the cells in the order of its distance to their centres until it has seen
-// probe_factor x count keys: an inverted file, whose cost stops growing with the map, at the
-// price of rare misses.
+// cells_from, and again at each re-layout from there on, i.e. each time the count doubles;
+// about sqrt(n)/2 cells) and a query key scans the cells in the order of its distance to
+// their centres until it has seen probe_factor x count keys: an inverted file, whose cost
+// stops growing with the map, at the price of rare misses.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
