@@ -47,9 +47,21 @@ LOOPSCAN_INLINE void bin_kernel(const PlanarCloud& c, const float (&axes)[6], fl
   for (std::size_t i = 0; i < c.x.size(); i += kLanes) {
     const Vec px = simd::load<Vec>(&c.x[i]), py = simd::load<Vec>(&c.y[i]),
               pz = simd::load<Vec>(&c.z[i]);
-    const Vec xp = axes[0] * px + axes[1] * py + axes[2] * pz;
-    const Vec yp = axes[3] * px + axes[4] * py + axes[5] * pz;
-    const Vec r2 = xp * xp + yp * yp;
+    // The AVX2+FMA clone fuses explicitly where GCC -O3 used to contract (this file is built
+    // with -ffp-contract=off, so no other build type or level fuses differently); the SSE2
+    // one has no FMA. packed_avx512 repeats the fused form.
+    Vec xp, yp, r2;
+    if constexpr (W == 32) {
+      for (int l = 0; l < kLanes; ++l) {
+        xp[l] = __builtin_fmaf(axes[2], pz[l], __builtin_fmaf(axes[0], px[l], axes[1] * py[l]));
+        yp[l] = __builtin_fmaf(axes[5], pz[l], __builtin_fmaf(axes[3], px[l], axes[4] * py[l]));
+        r2[l] = __builtin_fmaf(xp[l], xp[l], yp[l] * yp[l]);
+      }
+    } else {
+      xp = axes[0] * px + axes[1] * py + axes[2] * pz;
+      yp = axes[3] * px + axes[4] * py + axes[5] * pz;
+      r2 = xp * xp + yp * yp;
+    }
     Vec rf;
     for (int l = 0; l < kLanes; ++l) rf[l] = __builtin_sqrtf(r2[l]);  // becomes one sqrtps
     rf *= ring_inv;  // may exceed int range: clamped before the conversion
@@ -115,9 +127,9 @@ LOOPSCAN_AVX2 void kernel_avx2(std::size_t rays, const PlanarCloud& c, const flo
 #if LOOPSCAN_HAVE_AVX2_CLONES
 // The packed path with AVX-512 intrinsics, 16 points at a time (GCC's 64-byte vector code for
 // bin_kernel turns the mask logic into scalar code). Every lane computes what bin_kernel's
-// AVX2 clone computes, operation for operation (the multiply-adds GCC fuses there, read from
-// its code), so the bins are the same; M2dpOracle checks it on points placed on the bin
-// boundaries. The slots go through memory instead of lane extracts.
+// AVX2 clone computes, operation for operation (the same explicit multiply-adds), so the bins
+// are the same; M2dpOracle checks it on points placed on the bin boundaries. The slots go through
+// memory instead of lane extracts.
 template <int kRays>
 LOOPSCAN_AVX512 void packed_avx512(const PlanarCloud& c, const float (&axes)[6], float ring_inv,
                                    int rings, int shift, const float* ray_cos, const float* ray_sin,
@@ -146,7 +158,7 @@ LOOPSCAN_AVX512 void packed_avx512(const PlanarCloud& c, const float (&axes)[6],
   for (std::size_t i = 0; i < c.x.size(); i += 16) {
     const __m512 px = _mm512_loadu_ps(&c.x[i]), py = _mm512_loadu_ps(&c.y[i]),
                  pz = _mm512_loadu_ps(&c.z[i]);
-    // GCC contracts a * b + c * d into fma(a, b, c * d).
+    // bin_kernel's AVX2 clone: fma(a, b, c * d) for a * b + c * d.
     const __m512 xp = _mm512_fmadd_ps(a2, pz, _mm512_fmadd_ps(a0, px, _mm512_mul_ps(a1, py)));
     const __m512 yp = _mm512_fmadd_ps(a5, pz, _mm512_fmadd_ps(a3, px, _mm512_mul_ps(a4, py)));
     const __m512 r2 = _mm512_fmadd_ps(xp, xp, _mm512_mul_ps(yp, yp));
