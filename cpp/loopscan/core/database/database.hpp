@@ -52,10 +52,11 @@ enum class Retrieval { Exact, Indexed };
 
 struct QueryOptions {
   Retrieval retrieval = Retrieval::Indexed;
-  // Indexed: places taken from the index (SC ring-key / M2DP KD-tree, DELIGHT coarse
+  // Indexed: places taken from the index (SC coarse key / M2DP KD-tree, DELIGHT coarse
   // histogram) and scored exactly.
   int candidates = 50;
-  // Scan Context: places the ring-key tree hands to the spectral re-ranking, per candidate.
+  // Scan Context: places the coarse stage (key_scan.hpp) hands to the spectral re-ranking, per
+  // candidate.
   int index_pool_factor = 8;
   // Fused scores are z-scores of each half over the row of eligible places (Matlab's
   // normalize, as offline). Exact search has the whole row; indexed search estimates its mean
