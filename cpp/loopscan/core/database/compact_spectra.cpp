@@ -83,7 +83,7 @@ LOOPSCAN_AVX512 void expand_avx512(const CompactSpectraShape& shape, const float
     float* x = out + static_cast<std::size_t>(r) * S;
     for (int k = 0; k < S; k += 16) {
       const int left = S - k;
-      const __mmask16 m = left >= 16 ? __mmask16(0xffff) : __mmask16((1u << left) - 1u);
+      const __mmask16 m = static_cast<__mmask16>(simd::first_lanes(left));
       __m128i sixteen;
       if (left >= 16) {
         sixteen = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q + k));

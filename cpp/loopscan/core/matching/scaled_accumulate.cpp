@@ -28,7 +28,7 @@ LOOPSCAN_AVX512 void accumulate_avx512(float* out, const float* row, float v, in
   const __m512 s = _mm512_set1_ps(v);
   for (int k = 0; k < n; k += 16) {
     const int left = n - k;
-    const __mmask16 m = left >= 16 ? __mmask16(0xffff) : __mmask16((1u << left) - 1u);
+    const __mmask16 m = static_cast<__mmask16>(simd::first_lanes(left));
     const __m512 p = _mm512_mul_ps(s, _mm512_maskz_loadu_ps(m, row + k));
     _mm512_mask_storeu_ps(out + k, m, _mm512_add_ps(_mm512_maskz_loadu_ps(m, out + k), p));
   }
