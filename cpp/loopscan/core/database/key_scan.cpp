@@ -7,6 +7,7 @@
 #include <string>
 
 #include "loopscan/core/database/nearest_set.hpp"
+#include "loopscan/core/simd.hpp"
 
 namespace loopscan {
 namespace {
@@ -16,8 +17,6 @@ constexpr int B = KeyScan::kBlock;
 constexpr std::uint32_t kBlocksPerChunk = 16;  // 256 places: small maps stay small
 constexpr int kTrainingRounds = 8;
 constexpr std::size_t kSamplePerCell = 64;
-
-std::uint32_t valid_lanes(int lanes) { return lanes >= 32 ? ~0u : (1u << lanes) - 1u; }
 
 std::uint16_t clamped(std::uint16_t v) { return std::min(v, KeyScan::kMaxKey); }
 
@@ -34,7 +33,7 @@ KeyScan::KeyScan(int dims, const KeyScanConfig& config)
     : dims_(dims),
       pairs_((dims + 1) / 2),
       config_(config),
-      next_training_(std::max<std::size_t>(1, config.cells_from)) {
+      next_layout_(std::min<std::size_t>(256, std::max<std::size_t>(1, config.cells_from))) {
   if (dims < 1 || dims > kMaxDims) {
     throw std::invalid_argument("KeyScan: keys need 1.." + std::to_string(kMaxDims) +
                                 " dimensions, got " + std::to_string(dims));
@@ -54,7 +53,7 @@ std::uint32_t* KeyScan::block_ids(std::uint32_t b) const {
 }
 BlockRef KeyScan::ref(const Cell& cell, std::size_t j) const {
   const int lanes = j + 1 == cell.blocks.size() ? cell.fill : B;
-  return {block_keys(cell.blocks[j]), block_ids(cell.blocks[j]), valid_lanes(lanes)};
+  return {block_keys(cell.blocks[j]), block_ids(cell.blocks[j]), simd::first_lanes(lanes)};
 }
 
 void KeyScan::place(std::uint32_t c, const std::uint16_t* key, std::uint32_t id) {
@@ -87,7 +86,7 @@ void KeyScan::set_centres(std::vector<float> centres) {
   }
   for (std::size_t b = 0; b < n_blocks; ++b) {
     const int lanes = static_cast<int>(std::min<std::size_t>(B, n - b * B));
-    centre_refs_.push_back({&centre_keys_[b * dims_ * B], valid_lanes(lanes)});
+    centre_refs_.push_back({&centre_keys_[b * dims_ * B], simd::first_lanes(lanes)});
   }
 }
 
@@ -113,7 +112,7 @@ void KeyScan::add(const std::uint16_t* key) {
   }
   place(cell, key, static_cast<std::uint32_t>(count_));
   ++count_;
-  if (count_ == next_layout_ || count_ == next_training_) lay_out();
+  if (count_ == next_layout_) lay_out();
 }
 
 void KeyScan::lay_out() {
@@ -151,8 +150,9 @@ void KeyScan::lay_out() {
     std::copy_n(&all[i * dims_], dims_, key.data());
     place(nearest_cell(key.data()), &all[i * dims_], static_cast<std::uint32_t>(i));
   }
-  while (next_layout_ <= count_) next_layout_ *= 4;
-  while (next_training_ <= count_) next_training_ *= 4;
+  // Every 4x below cells_from (stopping at it), every 2x from it on (a retraining each time).
+  next_layout_ =
+      count_ < config_.cells_from ? std::min(4 * count_, config_.cells_from) : 2 * count_;
 }
 
 void KeyScan::train(const std::vector<std::uint16_t>& all) {

@@ -4,7 +4,7 @@
 // 16 places (key_scan_kernels.hpp): a few vector instructions per dimension pair and block,
 // exact integer distances, no pointer chasing, and a block left as soon as all its places are
 // farther than the current k-th (dimensions are stored by decreasing variance, re-laid out
-// when the count reaches 256, 1024, 4096, ...).
+// when the count reaches 256, 1024, 4096, ... up to cells_from, then each time it doubles).
 // Up to `cells_from` places every key is scanned: the answer is exact. From there on the keys
 // are grouped into cells around k-means centres (trained on the keys when the count reaches
 // cells_from, and again at each re-layout from there on, i.e. each time the count doubles;
@@ -75,8 +75,8 @@ class KeyScan {
 
   int dims_, pairs_;
   KeyScanConfig config_;
-  std::size_t count_ = 0, next_layout_ = 256, next_training_;
-  std::vector<int> order_;  // stored dimension j holds key dimension order_[j]
+  std::size_t count_ = 0, next_layout_;  // re-laid out (and, from cells_from, retrained) there
+  std::vector<int> order_;               // stored dimension j holds key dimension order_[j]
   // Blocks in chunks (no reallocation of all keys as the map grows).
   std::vector<std::unique_ptr<std::uint16_t[]>> key_chunks_;
   std::vector<std::unique_ptr<std::uint32_t[]>> id_chunks_;
