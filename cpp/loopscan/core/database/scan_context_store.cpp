@@ -126,7 +126,7 @@ class ScanContextStore final : public PlaceStore {
     std::vector<std::pair<std::size_t, std::uint32_t>> proposals;  // place, version bit
     std::vector<KeyScan::Neighbours> pools;
     std::vector<std::pair<std::int64_t, std::size_t>> ranked;
-    std::vector<std::uint16_t> coarse;
+    std::vector<std::uint16_t> coarse, key(key_dims_);
     for (const Keys& k : sq.keys) coarse.insert(coarse.end(), k.coarse.begin(), k.coarse.end());
     index_.nearest(coarse.data(), static_cast<int>(sq.keys.size()), std::max(count, pool), eligible,
                    pools);
@@ -134,9 +134,7 @@ class ScanContextStore final : public PlaceStore {
       const Keys& q = sq.keys[v];
       const auto& near = pools[v];
       ranked.clear();
-
-      const std::size_t dims = q.key.size();
-      std::vector<std::uint16_t> key(dims);
+      const std::size_t dims = key_dims_;
       // The candidates' keys are scattered over the arena: fetch a few ahead.
       constexpr std::size_t kAhead = 8;
       auto prefetch = [&](std::size_t j) {
