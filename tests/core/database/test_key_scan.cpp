@@ -138,6 +138,33 @@ TEST(KeyScan, CellSearchFindsNearlyAllTrueNeighbours) {
   EXPECT_GE(found / wanted, 0.95) << "recall " << found / wanted;
 }
 
+// The pilot scan (every 8th block) sets a bound that about 2 count places should lie within.
+// Here the near places are all in the pilot's blocks, so its bound holds too few of them: the
+// search must notice and scan again without it.
+TEST(KeyScan, PilotBoundTooTightIsNoticed) {
+  const int dims = 4;
+  const std::size_t n = 16 * 8 * 40, count = 150;
+  std::mt19937 rng(9);
+  std::uniform_int_distribution<int> near(0, 400), far(3000, 8000);
+  std::vector<std::uint16_t> data(n * dims);
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool pilot_block = (i / KeyScan::kBlock) % 8 == 0;
+    for (int d = 0; d < dims; ++d) {
+      data[i * dims + d] = static_cast<std::uint16_t>(pilot_block ? near(rng) : far(rng));
+    }
+  }
+  KeyScan scan(dims);
+  for (std::size_t i = 0; i < n; ++i) scan.add(&data[i * dims]);
+  ASSERT_EQ(scan.cells(), 1u);
+  const auto eligible = [](std::size_t i) { return i % 3 != 1; };
+  std::vector<std::uint16_t> queries = {0, 0, 0, 0, 200, 200, 200, 200, 6000, 6000, 6000, 6000};
+  std::vector<KeyScan::Neighbours> got;
+  scan.nearest(queries.data(), 3, count, eligible, got);
+  for (int v = 0; v < 3; ++v) {
+    EXPECT_EQ(got[v], brute_force(data, dims, &queries[v * dims], count, eligible)) << v;
+  }
+}
+
 TEST(KeyScan, DistanceIsTheSquaredEuclideanOne) {
   const std::uint16_t a[3] = {1, 2, 9000}, b[3] = {0, 4, 8000};
   EXPECT_EQ(KeyScan::distance(a, b, 3), 1u + 4u + (8191u - 8000u) * (8191u - 8000u));

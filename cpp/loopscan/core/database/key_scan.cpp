@@ -219,7 +219,8 @@ void KeyScan::nearest(const std::uint16_t* queries, int n_queries, std::size_t c
   };
   if (cells_.size() == 1) {  // every key, every query key in one pass
     add_cell(cells_[0]);
-    key_scan::scan(refs.data(), refs.size(), pairs_, packed.data(), n_queries, sinks.data());
+    key_scan::scan_nearest(refs.data(), refs.size(), pairs_, packed.data(), n_queries, count,
+                           sinks.data());
   } else {
     // Per query key, its nearest cells until probe_factor x count keys are seen.
     std::vector<float> d(centre_refs_.size() * B), q(dims_);
@@ -237,7 +238,8 @@ void KeyScan::nearest(const std::uint16_t* queries, int n_queries, std::size_t c
         add_cell(cells_[c]);
         if (!cells_[c].blocks.empty()) seen += (cells_[c].blocks.size() - 1) * B + cells_[c].fill;
       }
-      key_scan::scan(refs.data(), refs.size(), pairs_, &packed[v * pairs_], 1, &sinks[v]);
+      key_scan::scan_nearest(refs.data(), refs.size(), pairs_, &packed[v * pairs_], 1, count,
+                             &sinks[v]);
     }
   }
   for (int v = 0; v < n_queries; ++v) sinks[v].finish(out[v]);

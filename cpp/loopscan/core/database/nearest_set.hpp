@@ -21,8 +21,12 @@ class NearestSet {
     items_.reserve(2 * count + 1);
   }
   Distance bound() const { return bound_; }
+  // Promises that `count` eligible places lie at or below b: farther ones are skipped from the
+  // start. A wrong promise shows as size() < count at the end.
+  void tighten(Distance b) { bound_ = std::min(bound_, b); }
   std::size_t size() const { return std::min(items_.size(), count_); }
   bool full() const { return items_.size() >= count_; }
+  const std::function<bool(std::size_t)>& eligible() const { return *eligible_; }
   void add(Distance dist, std::size_t index) {
     if (dist > bound_ || !(*eligible_)(index)) return;
     items_.emplace_back(dist, index);
