@@ -25,8 +25,9 @@ double wall_albedo(const FacadeStyle& s, double u, double v) {
     const double tone = 0.1 * (hash_unit(s.salt, lattice(col), lattice(row), 3) - 0.5);
     return mix(s.wall + 0.12, s.wall + tone, brick);
   }
-  return s.wall + 0.12 * (fbm2(0.5 * u, 0.5 * v, s.salt, 3) - 0.5) +
-         0.04 * (value_noise2(6.0 * u, 6.0 * v, s.salt + 1) - 0.5);
+  double coarse, fine;
+  fbm2_and_noise2(0.5 * u, 0.5 * v, s.salt, 3, 6.0 * u, 6.0 * v, s.salt + 1, coarse, fine);
+  return s.wall + 0.12 * (coarse - 0.5) + 0.04 * (fine - 0.5);
 }
 
 }  // namespace
@@ -68,11 +69,14 @@ LOOPSCAN_SIM_CLONES double facade_albedo(const FacadeStyle& s, double u, double 
   const double frame =
       smooth_box(lu, -0.08, ww + 0.08, kEdge) * smooth_box(lv, -0.08, wh + 0.08, kEdge);
   const double glass = smooth_box(lu, 0.0, ww, kEdge) * smooth_box(lv, 0.0, wh, kEdge);
+  a = a * (1.0 - frame) + s.frame * (frame - glass);
+  // Off the glass the pane would add +-0 to a sum that is never -0 (smooth boxes are >= +0,
+  // s.frame > 0): the same value without it.
+  if (glass == 0.0) return clamp01(a);
   // Each pane reflects something different; a soft gradient inside the pane.
   const double pane = s.glass + 0.16 * (hash_unit(s.salt, lattice(k), lattice(row), 11) - 0.5) +
                       0.05 * (value_noise2(1.5 * u, 1.5 * v, s.salt + 2) - 0.5);
-  a = a * (1.0 - frame) + s.frame * (frame - glass) + pane * glass;
-  return clamp01(a);
+  return clamp01(a + pane * glass);
 }
 
 namespace {
@@ -80,8 +84,10 @@ namespace {
 // base + coarse fBm + fine value noise: the shared shape of the horizontal-surface textures.
 double layered_albedo(std::uint32_t salt, double x, double z, double base, double coarse_amp,
                       double coarse_freq, int octaves, double fine_amp, double fine_freq) {
-  return clamp01(base + coarse_amp * (fbm2(coarse_freq * x, coarse_freq * z, salt, octaves) - 0.5) +
-                 fine_amp * (value_noise2(fine_freq * x, fine_freq * z, salt + 1) - 0.5));
+  double coarse, fine;
+  fbm2_and_noise2(coarse_freq * x, coarse_freq * z, salt, octaves, fine_freq * x, fine_freq * z,
+                  salt + 1, coarse, fine);
+  return clamp01(base + coarse_amp * (coarse - 0.5) + fine_amp * (fine - 0.5));
 }
 
 }  // namespace
