@@ -25,9 +25,8 @@ double wall_albedo(const FacadeStyle& s, double u, double v) {
     const double tone = 0.1 * (hash_unit(s.salt, lattice(col), lattice(row), 3) - 0.5);
     return mix(s.wall + 0.12, s.wall + tone, brick);
   }
-  double coarse, fine;
-  fbm2_and_noise2(0.5 * u, 0.5 * v, s.salt, 3, 6.0 * u, 6.0 * v, s.salt + 1, coarse, fine);
-  return s.wall + 0.12 * (coarse - 0.5) + 0.04 * (fine - 0.5);
+  return s.wall + 0.12 * (fbm2(0.5 * u, 0.5 * v, s.salt, 3) - 0.5) +
+         0.04 * (value_noise2(6.0 * u, 6.0 * v, s.salt + 1) - 0.5);
 }
 
 }  // namespace
@@ -84,10 +83,8 @@ namespace {
 // base + coarse fBm + fine value noise: the shared shape of the horizontal-surface textures.
 double layered_albedo(std::uint32_t salt, double x, double z, double base, double coarse_amp,
                       double coarse_freq, int octaves, double fine_amp, double fine_freq) {
-  double coarse, fine;
-  fbm2_and_noise2(coarse_freq * x, coarse_freq * z, salt, octaves, fine_freq * x, fine_freq * z,
-                  salt + 1, coarse, fine);
-  return clamp01(base + coarse_amp * (coarse - 0.5) + fine_amp * (fine - 0.5));
+  return clamp01(base + coarse_amp * (fbm2(coarse_freq * x, coarse_freq * z, salt, octaves) - 0.5) +
+                 fine_amp * (value_noise2(fine_freq * x, fine_freq * z, salt + 1) - 0.5));
 }
 
 }  // namespace

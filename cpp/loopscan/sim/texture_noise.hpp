@@ -48,10 +48,6 @@ double value_noise2(double x, double y, std::uint32_t salt);
 double value_noise3(double x, double y, double z, std::uint32_t salt);
 // Fractal sum of `octaves` value-noise octaves (frequency doubling), normalised to [0, 1].
 double fbm2(double x, double y, std::uint32_t salt, int octaves);
-// fbm2(cx, cy, salt, octaves) and value_noise2(fx, fy, fine_salt) together, the same values
-// (the textures' coarse + fine layers): up to three octaves and the fine noise share SIMD lanes.
-void fbm2_and_noise2(double cx, double cy, std::uint32_t salt, int octaves, double fx, double fy,
-                     std::uint32_t fine_salt, double& fbm, double& fine);
 
 inline double smoothstep(double e0, double e1, double x) {
   if (e0 < e1) {  // outside the edge: the clamped result, without the division
