@@ -118,4 +118,12 @@ Hit shade_hit(const StaticWorld& w, const HitRef& ref, const Eigen::Vector3d& o,
               const Eigen::Vector3d& d, double t, const std::vector<ParkedCar>* cars,
               const Conditions& c, bool gradient);
 
+// The albedo alone of shade_hit(..., gradient = false) and shade_ground_as (the renderer's
+// entry points: the same value, without building the rest of the Hit).
+double shade_albedo(const StaticWorld& w, const HitRef& ref, const Eigen::Vector3d& o,
+                    const Eigen::Vector3d& d, double t, const std::vector<ParkedCar>* cars,
+                    const Conditions& c);
+double ground_albedo_as(const StaticWorld& w, Surface s, const Eigen::Vector3d& p,
+                        const Conditions& c);
+
 }  // namespace loopscan::sim
