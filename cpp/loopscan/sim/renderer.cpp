@@ -42,8 +42,10 @@ View make_view(const World& world, const Conditions& conditions, const StereoCam
 
 // Nearest hit of pixel (u, v)'s ray d within t_best (lowered to it): the ground, then the
 // tile's objects nearest first, as World::raycast finds it.
-HitRef first_hit(const View& view, int u, int v, const Eigen::Vector3d& d, double& t_best,
-                 GroundCaches& caches) {
+// Inlined into render_row (and its ISA clones).
+inline __attribute__((always_inline)) HitRef first_hit(const View& view, int u, int v,
+                                                       const Eigen::Vector3d& d, double& t_best,
+                                                       GroundCaches& caches) {
   HitRef best;
   const StaticWorld& w = *view.world;
   int step = 0;

@@ -164,8 +164,8 @@ Hit shade_ground_as(const StaticWorld& w, Surface s, const Eigen::Vector3d& p, d
   return shade_ground_as_inline(w, s, p, t, c, g);
 }
 
-double ground_albedo_as(const StaticWorld& w, Surface s, const Eigen::Vector3d& p,
-                        const Conditions& c) {
+LOOPSCAN_SIM_CLONES double ground_albedo_as(const StaticWorld& w, Surface s,
+                                            const Eigen::Vector3d& p, const Conditions& c) {
   return shade_ground_as_inline(w, s, p, 0.0, c, false).albedo;
 }
 
@@ -175,9 +175,10 @@ Hit shade_hit(const StaticWorld& w, const HitRef& ref, const Eigen::Vector3d& o,
   return shade_hit_inline(w, ref, o, d, t, cars, c, gradient);
 }
 
-double shade_albedo(const StaticWorld& w, const HitRef& ref, const Eigen::Vector3d& o,
-                    const Eigen::Vector3d& d, double t, const std::vector<ParkedCar>* cars,
-                    const Conditions& c) {
+LOOPSCAN_SIM_CLONES double shade_albedo(const StaticWorld& w, const HitRef& ref,
+                                        const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                                        double t, const std::vector<ParkedCar>* cars,
+                                        const Conditions& c) {
   return shade_hit_inline(w, ref, o, d, t, cars, c, false).albedo;
 }
 
