@@ -68,9 +68,11 @@ inline __attribute__((always_inline)) HitRef first_hit(const View& view, int u, 
   return best;
 }
 
-// The albedo of a hit found by first_hit.
-double shade(const View& view, const HitRef& ref, const Eigen::Vector3d& d, double t,
-             const Conditions& conditions, GroundCaches& ground) {
+// The albedo of a hit found by first_hit (inlined into render_row's ISA clones).
+inline __attribute__((always_inline)) double shade(const View& view, const HitRef& ref,
+                                                   const Eigen::Vector3d& d, double t,
+                                                   const Conditions& conditions,
+                                                   GroundCaches& ground) {
   if (!ref.ground)
     return shade_albedo(*view.world, ref, view.origin, d, t, view.cars.get(), conditions);
   const Eigen::Vector3d p = view.origin + t * d;

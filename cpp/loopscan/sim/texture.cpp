@@ -12,7 +12,8 @@ constexpr double kEdge = 0.04;  // edge width of windows and car parts
 double clamp01(double a) { return std::clamp(a, 0.0, 1.0); }
 double mix(double a, double b, double t) { return a + (b - a) * t; }
 
-double wall_albedo(const FacadeStyle& s, double u, double v) {
+// Inlined into facade_albedo's ISA clones.
+inline __attribute__((always_inline)) double wall_albedo(const FacadeStyle& s, double u, double v) {
   if (s.brick) {
     // Large bricks/blocks (15 x 45 cm) with lighter mortar joints, running bond.
     const double course = 0.15, len = 0.45;
