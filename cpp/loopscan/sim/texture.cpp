@@ -12,7 +12,8 @@ constexpr double kEdge = 0.04;  // edge width of windows and car parts
 double clamp01(double a) { return std::clamp(a, 0.0, 1.0); }
 double mix(double a, double b, double t) { return a + (b - a) * t; }
 
-double wall_albedo(const FacadeStyle& s, double u, double v) {
+// Inlined into facade_albedo's ISA clones.
+inline __attribute__((always_inline)) double wall_albedo(const FacadeStyle& s, double u, double v) {
   if (s.brick) {
     // Large bricks/blocks (15 x 45 cm) with lighter mortar joints, running bond.
     const double course = 0.15, len = 0.45;
@@ -68,11 +69,14 @@ LOOPSCAN_SIM_CLONES double facade_albedo(const FacadeStyle& s, double u, double 
   const double frame =
       smooth_box(lu, -0.08, ww + 0.08, kEdge) * smooth_box(lv, -0.08, wh + 0.08, kEdge);
   const double glass = smooth_box(lu, 0.0, ww, kEdge) * smooth_box(lv, 0.0, wh, kEdge);
+  a = a * (1.0 - frame) + s.frame * (frame - glass);
+  // Off the glass the pane would add +-0 to a sum that is never -0 (smooth boxes are >= +0,
+  // s.frame > 0): the same value without it.
+  if (glass == 0.0) return clamp01(a);
   // Each pane reflects something different; a soft gradient inside the pane.
   const double pane = s.glass + 0.16 * (hash_unit(s.salt, lattice(k), lattice(row), 11) - 0.5) +
                       0.05 * (value_noise2(1.5 * u, 1.5 * v, s.salt + 2) - 0.5);
-  a = a * (1.0 - frame) + s.frame * (frame - glass) + pane * glass;
-  return clamp01(a);
+  return clamp01(a + pane * glass);
 }
 
 namespace {

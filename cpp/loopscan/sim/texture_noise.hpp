@@ -4,11 +4,14 @@
 #include <cmath>
 #include <cstdint>
 
-// The renderer's hot functions are also compiled for SSE4.2 and picked when the CPU has it (the
-// build targets the x86-64 baseline): floor() becomes one instruction, ~20 % of a render. The
-// bits are the same: SSE4.2 has no FMA, nothing is contracted or reordered.
+// The renderer's hot functions are also compiled for SSE4.2 and AVX2 and picked by the CPU (the
+// build targets the x86-64 baseline): floor() becomes one instruction (~20 % of a render), and
+// AVX2's three-operand encoding saves the register copies of scalar code (~8 % of the
+// instructions). The bits are the same: neither target has FMA (GCC's "avx2" does not imply
+// it), nothing is contracted or reordered. target_clones follow the CPU only (not
+// LOOPSCAN_NO_AVX2): the images are the same on every path.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
-#define LOOPSCAN_SIM_CLONES __attribute__((target_clones("sse4.2", "default")))
+#define LOOPSCAN_SIM_CLONES __attribute__((target_clones("avx2", "sse4.2", "default")))
 #else
 #define LOOPSCAN_SIM_CLONES
 #endif

@@ -37,8 +37,10 @@ struct WorldAccess {
 // Ray parameter of the ground hit, or a negative value if the ray does not reach the ground;
 // ground_y(x, z) gives ground_y_at(w, x, z) (the renderer answers it from a local cache).
 template <class GroundY>
-double ground_t_with(const StaticWorld& w, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
-                     GroundY&& ground_y) {
+inline __attribute__((always_inline)) double ground_t_with(const StaticWorld& w,
+                                                           const Eigen::Vector3d& o,
+                                                           const Eigen::Vector3d& d,
+                                                           GroundY&& ground_y) {
   if (w.centreline.empty() || d.y() <= 1e-12) return -1.0;
   double g = ground_y(o.x(), o.z());
   if (o.y() >= g) return -1.0;  // at or below the ground
@@ -117,5 +119,13 @@ Hit shade_ground_as(const StaticWorld& w, Surface s, const Eigen::Vector3d& p, d
 Hit shade_hit(const StaticWorld& w, const HitRef& ref, const Eigen::Vector3d& o,
               const Eigen::Vector3d& d, double t, const std::vector<ParkedCar>* cars,
               const Conditions& c, bool gradient);
+
+// The albedo alone of shade_hit(..., gradient = false) and shade_ground_as (the renderer's
+// entry points: the same value, without building the rest of the Hit).
+double shade_albedo(const StaticWorld& w, const HitRef& ref, const Eigen::Vector3d& o,
+                    const Eigen::Vector3d& d, double t, const std::vector<ParkedCar>* cars,
+                    const Conditions& c);
+double ground_albedo_as(const StaticWorld& w, Surface s, const Eigen::Vector3d& p,
+                        const Conditions& c);
 
 }  // namespace loopscan::sim

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "loopscan/sim/texture_noise.hpp"  // LOOPSCAN_SIM_CLONES
+
 namespace loopscan::sim {
 namespace {
 
@@ -48,8 +50,9 @@ Box make_box(double cx, double cz, double yaw, double half_u, double half_v, dou
   return Box{cx, cz, std::cos(yaw), std::sin(yaw), half_u, half_v, y_top, y_bottom};
 }
 
-bool intersect_box(const Box& b, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_max,
-                   double& t, int& face) {
+LOOPSCAN_SIM_CLONES bool intersect_box(const Box& b, const Eigen::Vector3d& o,
+                                       const Eigen::Vector3d& d, double t_max, double& t,
+                                       int& face) {
   double lu, lv;
   box_local(b, o.x(), o.z(), lu, lv);
   const double du = d.x() * b.cos_yaw + d.z() * b.sin_yaw;
@@ -103,8 +106,8 @@ bool intersect_cylinder(const Cylinder& c, const Eigen::Vector3d& o, const Eigen
   return true;
 }
 
-bool intersect_ellipsoid(const Ellipsoid& e, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
-                         double& t0, double& t1) {
+LOOPSCAN_SIM_CLONES bool intersect_ellipsoid(const Ellipsoid& e, const Eigen::Vector3d& o,
+                                             const Eigen::Vector3d& d, double& t0, double& t1) {
   // Scale y so the spheroid becomes a sphere of radius radius_h; t is unchanged.
   const double s = e.radius_h / e.radius_v;
   const double px = o.x() - e.cx, py = (o.y() - e.cy) * s, pz = o.z() - e.cz;

@@ -23,8 +23,9 @@ World::CarCache::Cars World::CarCache::get(const StaticWorld& world, unsigned se
   return sessions.back().second;
 }
 
-bool foliage_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t0, double t1,
-                 double voxel, double density, std::uint32_t salt, double& t_hit) {
+LOOPSCAN_SIM_CLONES bool foliage_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t0,
+                                     double t1, double voxel, double density, std::uint32_t salt,
+                                     double& t_hit) {
   t0 = std::max(t0, 0.0);
   if (density <= 0.0 || t1 <= t0) return false;
   const Eigen::Vector3d p = o + t0 * d;
