@@ -1,5 +1,6 @@
 #include "loopscan/core/descriptors/leading_singular.hpp"
 
+#include "loopscan/core/descriptors/power_step.hpp"
 #include "loopscan/core/simd.hpp"
 
 #include <Eigen/SVD>
@@ -97,14 +98,15 @@ SingularPair leading_singular_pair(const Eigen::MatrixXd& a, Mode mode) {
   if (u.norm() == 0.0) u = Eigen::VectorXd::Ones(a.rows());
   u.normalize();
   bool converged = false;
+  Eigen::VectorXd next(u.size());
   for (int it = 0; it < 1000 && !converged; ++it) {
-    Eigen::VectorXd next = gram * u;
+    gram_times(gram.data(), static_cast<int>(gram.rows()), u.data(), next.data());  // gram * u
     const double n = next.norm();
     if (n == 0.0) break;
     next /= n;
     if (next.dot(u) < 0) next = -next;
     converged = (next - u).lpNorm<Eigen::Infinity>() < 1e-14;
-    u = next;
+    u.swap(next);
   }
   if (!converged) {
     pair = jacobi_pair(a);
