@@ -221,12 +221,13 @@ void M2dpBinner::accumulate(const PlanarCloud& c, const Eigen::Vector3d& xa,
 }
 
 void M2dpBinner::accumulate_packed(const PlanarCloud& c, const Eigen::Vector3d& xa,
-                                   const Eigen::Vector3d& ya, long long* packed_row) const {
+                                   const Eigen::Vector3d& ya, long long* packed_row,
+                                   std::size_t stride) const {
   const int bins = sectors_ * rings_;
   thread_local std::vector<long long> two_rows;
   two_rows.assign(2 * (bins + 1), 0);
   accumulate(c, xa, ya, nullptr, reinterpret_cast<double*>(two_rows.data()));
-  for (int b = 0; b < bins; ++b) packed_row[b] += two_rows[b] + two_rows[bins + 1 + b];
+  for (int b = 0; b < bins; ++b) packed_row[b * stride] += two_rows[b] + two_rows[bins + 1 + b];
 }
 
 bool pack_gray(PlanarCloud& c, std::size_t n) {
