@@ -4,7 +4,13 @@
 #include "loopscan/core/simd.hpp"
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
+#include <vector>
+
+#if LOOPSCAN_HAVE_AVX2_CLONES
+#include <immintrin.h>
+#endif
 
 namespace loopscan {
 namespace {
@@ -75,14 +81,83 @@ LOOPSCAN_AVX2 void gram_avx2(const double* rows, int n, int len, double* g) {
   gram_kernel<32>(rows, n, len, g);
 }
 
-Eigen::MatrixXd gram_matrix(const Eigen::MatrixXd& a) {
+#if LOOPSCAN_HAVE_AVX2_CLONES
+// gram_avx2's bits (lane l of a pair's accumulator sums k = l, l + 4, ... with fused
+// multiply-adds; then 0 + lane 0 + ... + lane 3) for a tile of pairs: rows i0..i0 + 3 against
+// j..j + 7. Lanes are the j, read straight from the column-major A (a column holds consecutive
+// j), each load serving four rows (16 independent chains). `a`: column-major with leading
+// dimension `ld`; `m`: the valid lanes.
+template <bool kMasked>
+LOOPSCAN_AVX512 LOOPSCAN_INLINE void gram_tile(const double* a, std::size_t ld, int n, int len,
+                                               int i0, int j, __mmask8 m, double* g) {
+  int row[4];
+  for (int r = 0; r < 4; ++r) row[r] = i0 + r < n ? i0 + r : i0;  // spare rows: not stored
+  __m512d acc[4][4];
+  for (int r = 0; r < 4; ++r) {
+    for (int l = 0; l < 4; ++l) acc[r][l] = _mm512_setzero_pd();
+  }
+  for (int k = 0; k < len; k += 4) {  // len: a multiple of 4
+    for (int l = 0; l < 4; ++l) {
+      const double* col = a + (k + l) * ld;
+      const __m512d y = kMasked ? _mm512_maskz_loadu_pd(m, col + j) : _mm512_loadu_pd(col + j);
+      for (int r = 0; r < 4; ++r) {
+        acc[r][l] = _mm512_fmadd_pd(_mm512_set1_pd(col[row[r]]), y, acc[r][l]);
+      }
+    }
+  }
+  alignas(64) double out[8];
+  const int lanes = n - j < 8 ? n - j : 8;
+  for (int r = 0; r < 4 && i0 + r < n; ++r) {
+    __m512d s = _mm512_add_pd(_mm512_setzero_pd(), acc[r][0]);
+    for (int l = 1; l < 4; ++l) s = _mm512_add_pd(s, acc[r][l]);
+    _mm512_store_pd(out, s);
+    // A pair (j, i) below the diagonal gets the same bits (the products are exact).
+    const int i = i0 + r;
+    for (int l = 0; l < lanes; ++l) g[i * n + j + l] = g[(j + l) * n + i] = out[l];
+  }
+}
+
+// The columns copied `ld` apart first: 512-byte columns (64 planes) all map to 8 of the 64
+// L1 sets, and the tiles' reads of 128 of them missed every time (2x slower than AVX2).
+LOOPSCAN_AVX512 void gram_avx512(const double* a, int n, int len, double* g) {
+  const std::size_t ld = (n + 7) / 8 * 8 + 8;  // an odd number of 64-byte lines
+  thread_local std::vector<double> padded;
+  padded.resize(ld * len + 8);
+  for (int k = 0; k < len; ++k) {
+    std::copy(a + static_cast<std::size_t>(k) * n, a + static_cast<std::size_t>(k + 1) * n,
+              padded.data() + k * ld);
+  }
+  for (int i0 = 0; i0 < n; i0 += 4) {
+    int j = i0 / 8 * 8;
+    for (; j + 8 <= n; j += 8) gram_tile<false>(padded.data(), ld, n, len, i0, j, 0xff, g);
+    if (j < n) gram_tile<true>(padded.data(), ld, n, len, i0, j, simd::first_lanes(n - j), g);
+  }
+}
+#endif
+
+}  // namespace
+
+Eigen::MatrixXd gram_matrix_for_width(const Eigen::MatrixXd& a, int width) {
+  Eigen::MatrixXd g(a.rows(), a.rows());
+  const int n = static_cast<int>(a.rows()), len = static_cast<int>(a.cols());
+#if LOOPSCAN_HAVE_AVX2_CLONES
+  // Lengths with a tail keep the AVX2 kernel: GCC vectorises its tail loop (unfused products
+  // for 2 or 3 left), which this kernel does not repeat. M2DP's lengths (bins: sectors a power
+  // of two from 4, times rings) have none.
+  if (width >= 64 && simd::has_avx512() && len % 4 == 0) {
+    gram_avx512(a.data(), n, len, g.data());
+    return g;
+  }
+#endif
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const RowMajor rows = a;
-  Eigen::MatrixXd g(a.rows(), a.rows());
-  (simd::has_avx2() ? gram_avx2 : gram_base)(rows.data(), static_cast<int>(a.rows()),
-                                             static_cast<int>(a.cols()), g.data());
+  (width >= 32 && simd::has_avx2() ? gram_avx2 : gram_base)(rows.data(), n, len, g.data());
   return g;
 }
+
+namespace {
+
+Eigen::MatrixXd gram_matrix(const Eigen::MatrixXd& a) { return gram_matrix_for_width(a, 64); }
 
 }  // namespace
 

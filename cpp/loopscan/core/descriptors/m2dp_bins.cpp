@@ -129,11 +129,12 @@ LOOPSCAN_AVX2 void kernel_avx2(std::size_t rays, const PlanarCloud& c, const flo
 // bin_kernel turns the mask logic into scalar code). Every lane computes what bin_kernel's
 // AVX2 clone computes, operation for operation (the same explicit multiply-adds), so the bins
 // are the same; M2dpOracle checks it on points placed on the bin boundaries. The slots go through
-// memory instead of lane extracts.
+// memory instead of lane extracts. Aligned to 64 bytes: where its loop fell moved the whole
+// describe by ~8 % between builds that differed elsewhere only.
 template <int kRays>
-LOOPSCAN_AVX512 void packed_avx512(const PlanarCloud& c, const float (&axes)[6], float ring_inv,
-                                   int rings, int shift, const float* ray_cos, const float* ray_sin,
-                                   long long* packed_row) {
+LOOPSCAN_AVX512 __attribute__((aligned(64))) void packed_avx512(
+    const PlanarCloud& c, const float (&axes)[6], float ring_inv, int rings, int shift,
+    const float* ray_cos, const float* ray_sin, long long* packed_row) {
   constexpr int kPerQuadrant = kRays + 1;
   constexpr __mmask16 kAll = 0xffff;  // maskz forms: GCC 12 warns about the plain ones' undefined
   const __m512 zero = _mm512_setzero_ps(), sign = _mm512_set1_ps(-0.f);
