@@ -18,4 +18,9 @@ struct SingularPair {
 // An all-zero matrix gives zero vectors in default mode.
 SingularPair leading_singular_pair(const Eigen::MatrixXd& a, Mode mode);
 
+// A A^T as the default mode computes it, with the kernel of at most `width` bytes (64:
+// AVX-512, 32: AVX2+FMA, 16: SSE2; falls back to what the CPU has). AVX-512 gives the AVX2
+// bits; for tests.
+Eigen::MatrixXd gram_matrix_for_width(const Eigen::MatrixXd& a, int width);
+
 }  // namespace loopscan

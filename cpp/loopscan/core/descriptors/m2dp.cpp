@@ -7,6 +7,7 @@
 #include "loopscan/core/descriptors/gray_mean.hpp"
 #include "loopscan/core/descriptors/leading_singular.hpp"
 #include "loopscan/core/descriptors/m2dp_bins.hpp"
+#include "loopscan/core/descriptors/m2dp_finish.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
 #include "loopscan/core/simd.hpp"
 
@@ -245,8 +246,10 @@ Signature m2dp_signature(const Cloud& scan, const M2dpConfig& config) {
     const double mean = cloud_gray_mean(aligned, config.mode);
     thread_local PlanarCloud soa;
     thread_local std::vector<double> count, gray;
+    thread_local std::vector<long long> acc;
     fill_soa(aligned, 1.f, 1.f, soa);
-    const bool packed = pack_gray(soa, soa.x.size());
+    // Packed sums straight into the matrices' layout (bin-major) and finished in one pass.
+    const bool packed = pack_gray(soa, soa.x.size()), direct = packed && soa.x.size() < 65535;
     int row = 0;
     for (int sx = -1; sx <= 1; sx += 2) {
       for (int sy = -1; sy <= 1; sy += 2) {
@@ -255,8 +258,17 @@ Signature m2dp_signature(const Cloud& scan, const M2dpConfig& config) {
           soa.y[i] = sy * static_cast<float>(aligned[i].p(1));
           soa.z[i] = (sx * sy) * static_cast<float>(aligned[i].p(2));
         }
-        bin_soa(soa, packed, fast, x_axes, y_axes, bins, count, gray);
-        const M2dpMatrices m = finish(count, gray, planes, bins, mean, true);
+        M2dpMatrices m;
+        if (direct) {
+          acc.assign(planes * bins, 0);
+          for (int k = 0; k < planes; ++k) {
+            fast.accumulate_packed(soa, x_axes.col(k), y_axes.col(k), &acc[k], planes);
+          }
+          m = finish_packed(acc, soa.count_shift, soa.gray_unit, planes, bins, mean, soa.x.size());
+        } else {
+          bin_soa(soa, packed, fast, x_axes, y_axes, bins, count, gray);
+          m = finish(count, gray, planes, bins, mean, true);
+        }
         sig.row(row).head(half) = compressed(m.count, config.mode);
         sig.row(row).tail(half) = compressed(m.gray, config.mode);
         ++row;

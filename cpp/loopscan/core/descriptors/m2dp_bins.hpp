@@ -33,9 +33,11 @@ class M2dpBinner {
   // count_row[bin] += 1 and gray_row[bin] += gray for every point projected on the plane.
   void accumulate(const PlanarCloud& cloud, const Eigen::Vector3d& x_axis,
                   const Eigen::Vector3d& y_axis, double* count_row, double* gray_row) const;
-  // packed_row[bin] += cloud.packed[i] (pack_gray) for every point: count and gray sum at once.
+  // packed_row[bin * stride] += cloud.packed[i] (pack_gray) for every point: count and gray
+  // sum at once.
   void accumulate_packed(const PlanarCloud& cloud, const Eigen::Vector3d& x_axis,
-                         const Eigen::Vector3d& y_axis, long long* packed_row) const;
+                         const Eigen::Vector3d& y_axis, long long* packed_row,
+                         std::size_t stride = 1) const;
 
  private:
   int sectors_, rings_;

@@ -4,25 +4,14 @@
 #include <limits>
 
 #include "loopscan/core/descriptors/fast_angle.hpp"
+#include "loopscan/core/descriptors/scan_context_bin_args.hpp"
 #include "loopscan/core/simd.hpp"
 
 namespace loopscan {
+
+using namespace scan_context_detail;
+
 namespace {
-
-constexpr int kMaxSectors = 128;
-constexpr int kOut = -1, kFix = -2;  // bins: beyond the last ring; for the exact path
-
-struct BinArgs {
-  const double *x, *z;  // aligned axes 1 and 2, padded to whole vectors
-  std::size_t n_vec;
-  const Eigen::Vector2d* centres;
-  int n_centres, rings, sectors, last;  // last: boundaries tan[1..last] below 45 degrees
-  double ring_inv;
-  double q1, q2, offset;  // q1 = Q - 1, q2 = 2Q - 1 (Q sectors a quadrant), offset bins
-  const double* tan;
-  const AngleBinner* binner;
-  int* bins;  // n_centres x n_vec: bin, kOut or kFix
-};
 
 // a1, a2 exactly as the scalar loop (-ffp-contract=off for this file); the ring and the sector
 // then in single precision with margins far above its rounding (~1e-7): lanes within 1e-5 (in
@@ -90,7 +79,6 @@ LOOPSCAN_INLINE void bin_dispatch(const BinArgs& a) {
 
 void bins_base(const BinArgs& a) { bin_dispatch<16>(a); }
 LOOPSCAN_AVX2 void bins_avx2(const BinArgs& a) { bin_dispatch<32>(a); }
-LOOPSCAN_AVX512 void bins_avx512(const BinArgs& a) { bin_dispatch<64>(a); }
 
 using Pair = simd::Vec<double, 16>::type;
 
@@ -187,7 +175,6 @@ void rows_impl(const Cloud& points, const AlignFrame* frame, const ScanContextCo
   const Cloud& aligned = points;
   const int rings = config.rings, sectors = config.sectors, nb = rings * sectors;
   const AngleBinner binner(sectors / (2.0 * M_PI), M_PI);
-  constexpr int kPad = 8;  // the widest kernel's lanes
   const std::size_t n = aligned.size(), n_vec = (n + kPad - 1) / kPad * kPad;
   thread_local std::vector<double> x, z, h;
   thread_local std::vector<float> g;
@@ -232,7 +219,11 @@ void rows_impl(const Cloud& points, const AlignFrame* frame, const ScanContextCo
             tan.data(),
             &binner,
             bins.data()};
-  (simd::has_avx512() ? bins_avx512 : simd::has_avx2() ? bins_avx2 : bins_base)(a);
+#if LOOPSCAN_HAVE_AVX2_CLONES
+  (simd::has_avx512() ? bins_avx512_intrinsics : simd::has_avx2() ? bins_avx2 : bins_base)(a);
+#else
+  (simd::has_avx2() ? bins_avx2 : bins_base)(a);
+#endif
 
   thread_local std::vector<Cell> cells;
   const double inf = std::numeric_limits<double>::infinity();
