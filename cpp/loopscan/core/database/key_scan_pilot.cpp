@@ -1,4 +1,5 @@
 // key_scan::scan_nearest: a pilot scan over a strided sample of the blocks sets the bound.
+#include <algorithm>
 #include <vector>
 
 #include "loopscan/core/database/key_scan_kernels.hpp"
