@@ -36,6 +36,12 @@ bool has_avx2();
 // independent, so they give the same bits as their AVX2 instantiation, only more at a time.
 bool has_avx512();
 
+// The widest of a kernel's three clones that this machine runs (under the overrides above).
+template <class Kernel>
+Kernel widest(Kernel avx512, Kernel avx2, Kernel base) {
+  return has_avx512() ? avx512 : has_avx2() ? avx2 : base;
+}
+
 // A mask of the first n lanes (all 32 bits from n = 32 on): the valid lanes of a partly
 // filled block, or of a loop's tail (cast to the width's mask type).
 inline unsigned first_lanes(int n) { return n >= 32 ? ~0u : (1u << n) - 1u; }

@@ -104,9 +104,7 @@ LOOPSCAN_AVX512 void expand_avx512(const CompactSpectraShape& shape, const float
 
 void expand_spectra(const CompactSpectraShape& shape, const float* compact, float* out) {
 #if LOOPSCAN_HAVE_AVX2_CLONES
-  static const auto kernel = simd::has_avx512() ? expand_avx512
-                             : simd::has_avx2() ? expand_avx2
-                                                : expand_base;
+  static const auto kernel = simd::widest(expand_avx512, expand_avx2, expand_base);
 #else
   static const auto kernel = expand_base;
 #endif

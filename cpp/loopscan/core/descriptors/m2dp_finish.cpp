@@ -48,8 +48,8 @@ M2dpMatrices finish_packed(const std::vector<long long>& acc, int shift, double 
                            std::size_t max_count) {
   const std::vector<double>& table = log1p_table(max_count + 1);
   M2dpMatrices m{Eigen::MatrixXd(planes, bins), Eigen::MatrixXd(planes, bins)};
-  auto* kernel = simd::has_avx512() ? values_avx512 : simd::has_avx2() ? values_avx2 : values_base;
-  kernel(acc.data(), acc.size(), shift, unit, mean, table.data(), m.count.data(), m.gray.data());
+  simd::widest(values_avx512, values_avx2, values_base)(
+      acc.data(), acc.size(), shift, unit, mean, table.data(), m.count.data(), m.gray.data());
   return m;
 }
 

@@ -55,7 +55,7 @@ LOOPSCAN_AVX512 void times_avx512(const double* g, int n, const double* u, doubl
 }  // namespace
 
 void gram_times(const double* g, int n, const double* u, double* out) {
-  (simd::has_avx512() ? times_avx512 : simd::has_avx2() ? times_avx2 : times_base)(g, n, u, out);
+  simd::widest(times_avx512, times_avx2, times_base)(g, n, u, out);
 }
 
 }  // namespace loopscan

@@ -220,7 +220,7 @@ void rows_impl(const Cloud& points, const AlignFrame* frame, const ScanContextCo
             &binner,
             bins.data()};
 #if LOOPSCAN_HAVE_AVX2_CLONES
-  (simd::has_avx512() ? bins_avx512_intrinsics : simd::has_avx2() ? bins_avx2 : bins_base)(a);
+  simd::widest(bins_avx512_intrinsics, bins_avx2, bins_base)(a);
 #else
   (simd::has_avx2() ? bins_avx2 : bins_base)(a);
 #endif

@@ -39,9 +39,7 @@ LOOPSCAN_AVX512 void accumulate_avx512(float* out, const float* row, float v, in
 
 void scaled_accumulate(float* out, const float* row, float v, int n) {
 #if LOOPSCAN_HAVE_AVX2_CLONES
-  static const auto kernel = simd::has_avx512() ? accumulate_avx512
-                             : simd::has_avx2() ? accumulate_avx2
-                                                : accumulate_base;
+  static const auto kernel = simd::widest(accumulate_avx512, accumulate_avx2, accumulate_base);
 #else
   static const auto kernel = accumulate_base;
 #endif

@@ -189,9 +189,7 @@ LOOPSCAN_AVX512 void best_dots_avx512(const KernelArgs& k, const float* q, const
 
 void scan_context_pair_best_dots(const ScanContextPairArgs& args, const float* q, const float* qs,
                                  const float* p, float best[2]) {
-  static const auto kernel = simd::has_avx512() ? best_dots_avx512
-                             : simd::has_avx2() ? best_dots_avx2
-                                                : best_dots_base;
+  static const auto kernel = simd::widest(best_dots_avx512, best_dots_avx2, best_dots_base);
   kernel(args, q, qs, p, best);
 }
 
