@@ -47,8 +47,8 @@ class KeyScan {
   using Neighbours = std::vector<std::pair<std::uint32_t, std::size_t>>;  // distance, place
   // For each of the n_queries keys (row-major, dims values each): up to `count` places with
   // eligible(i), nearest first by distance(), ties to the smaller index, among the keys
-  // scanned (all of them below cells_from). `eligible` is asked only about places closer
-  // than the current count-th.
+  // scanned (all of them below cells_from). `eligible` is asked only about places within the
+  // current bound (the count-th so far, or the pilot scan's, key_scan_kernels.hpp).
   void nearest(const std::uint16_t* queries, int n_queries, std::size_t count,
                const std::function<bool(std::size_t)>& eligible,
                std::vector<Neighbours>& out) const;
