@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "loopscan/core/parallel.hpp"
+#include "loopscan/core/simd.hpp"
 #include "loopscan/sim/render_ground.hpp"
 #include "loopscan/sim/render_noise.hpp"
 #include "loopscan/sim/render_visibility.hpp"
@@ -46,9 +47,8 @@ View make_view(const World& world, const Conditions& conditions, const StereoCam
 // Nearest hit of pixel (u, v)'s ray d within t_best (lowered to it): the ground, then the
 // tile's objects nearest first, as World::raycast finds it.
 // Inlined into render_row (and its ISA clones).
-inline __attribute__((always_inline)) HitRef first_hit(const View& view, int u, int v,
-                                                       const Eigen::Vector3d& d, double& t_best,
-                                                       GroundCaches& caches) {
+LOOPSCAN_INLINE HitRef first_hit(const View& view, int u, int v, const Eigen::Vector3d& d,
+                                 double& t_best, GroundCaches& caches) {
   HitRef best;
   const StaticWorld& w = *view.world;
   int step = 0;
@@ -72,10 +72,8 @@ inline __attribute__((always_inline)) HitRef first_hit(const View& view, int u, 
 }
 
 // The albedo of a hit found by first_hit (inlined into render_row's ISA clones).
-inline __attribute__((always_inline)) double shade(const View& view, const HitRef& ref,
-                                                   const Eigen::Vector3d& d, double t,
-                                                   const Conditions& conditions,
-                                                   GroundCaches& ground) {
+LOOPSCAN_INLINE double shade(const View& view, const HitRef& ref, const Eigen::Vector3d& d,
+                             double t, const Conditions& conditions, GroundCaches& ground) {
   if (!ref.ground)
     return shade_albedo(*view.world, ref, view.origin, d, t, view.cars.get(), conditions);
   const Eigen::Vector3d p = view.origin + t * d;
@@ -85,8 +83,7 @@ inline __attribute__((always_inline)) double shade(const View& view, const HitRe
 // camera.ray(u, v) rotated into the world, its expression inlined (the call was 2.5 % of a
 // render) with the column's x from the table: the same operations, the same bits. ray_y: the
 // row's (v - cy) / fy.
-inline __attribute__((always_inline)) Eigen::Vector3d world_ray(const View& view, int u,
-                                                                double ray_y) {
+LOOPSCAN_INLINE Eigen::Vector3d world_ray(const View& view, int u, double ray_y) {
   return view.R * Eigen::Vector3d(view.ray_x[static_cast<std::size_t>(u)], ray_y, 1.0).normalized();
 }
 

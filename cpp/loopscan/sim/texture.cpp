@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "loopscan/core/simd.hpp"
 #include "loopscan/sim/texture_noise.hpp"
 
 namespace loopscan::sim {
@@ -13,7 +14,7 @@ double clamp01(double a) { return std::clamp(a, 0.0, 1.0); }
 double mix(double a, double b, double t) { return a + (b - a) * t; }
 
 // Inlined into facade_albedo's ISA clones.
-inline __attribute__((always_inline)) double wall_albedo(const FacadeStyle& s, double u, double v) {
+LOOPSCAN_INLINE double wall_albedo(const FacadeStyle& s, double u, double v) {
   if (s.brick) {
     // Large bricks/blocks (15 x 45 cm) with lighter mortar joints, running bond.
     const double course = 0.15, len = 0.45;

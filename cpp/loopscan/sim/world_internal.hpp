@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "loopscan/core/simd.hpp"
 #include "loopscan/sim/world.hpp"
 #include "loopscan/sim/world_objects.hpp"
 
@@ -37,10 +38,8 @@ struct WorldAccess {
 // Ray parameter of the ground hit, or a negative value if the ray does not reach the ground;
 // ground_y(x, z) gives ground_y_at(w, x, z) (the renderer answers it from a local cache).
 template <class GroundY>
-inline __attribute__((always_inline)) double ground_t_with(const StaticWorld& w,
-                                                           const Eigen::Vector3d& o,
-                                                           const Eigen::Vector3d& d,
-                                                           GroundY&& ground_y) {
+LOOPSCAN_INLINE double ground_t_with(const StaticWorld& w, const Eigen::Vector3d& o,
+                                     const Eigen::Vector3d& d, GroundY&& ground_y) {
   if (w.centreline.empty() || d.y() <= 1e-12) return -1.0;
   double g = ground_y(o.x(), o.z());
   if (o.y() >= g) return -1.0;  // at or below the ground

@@ -1,6 +1,7 @@
 // Albedo and texture gradient at a hit, with the season's effects (snow, foliage colour).
 #include <cmath>
 
+#include "loopscan/core/simd.hpp"
 #include "loopscan/sim/texture_noise.hpp"
 #include "loopscan/sim/world_internal.hpp"
 
@@ -9,10 +10,8 @@ namespace {
 
 // The per-kind shaders are inlined into both entry points (shade_hit, shade_albedo): in the
 // albedo-only one the compiler then drops everything else a Hit holds.
-#define LOOPSCAN_SHADE_INLINE inline __attribute__((always_inline))
-
-LOOPSCAN_SHADE_INLINE Hit make_hit(double t, const Eigen::Vector3d& p, Surface s,
-                                   const TextureSample& tex, int id) {
+LOOPSCAN_INLINE Hit make_hit(double t, const Eigen::Vector3d& p, Surface s,
+                             const TextureSample& tex, int id) {
   Hit h;
   h.distance = t;
   h.point = p;
@@ -26,15 +25,14 @@ LOOPSCAN_SHADE_INLINE Hit make_hit(double t, const Eigen::Vector3d& p, Surface s
 // Spring grass is fresher (lighter), fall grass is dry and strewn with leaves.
 double grass_shift(Season s) { return s == Season::Spring ? 0.05 : s == Season::Fall ? 0.08 : 0.0; }
 
-LOOPSCAN_SHADE_INLINE Hit shade_ground(const StaticWorld& w, const Eigen::Vector3d& p, double t,
-                                       const Conditions& c, bool g) {
+LOOPSCAN_INLINE Hit shade_ground(const StaticWorld& w, const Eigen::Vector3d& p, double t,
+                                 const Conditions& c, bool g) {
   return shade_ground_as(w, ground_surface(w, w.centreline.nearest(p.x(), p.z()).distance), p, t, c,
                          g);
 }
 
-LOOPSCAN_SHADE_INLINE Hit shade_facade(const StaticWorld& w, const FacadeObject& f, int face,
-                                       const Eigen::Vector3d& p, double t, const Conditions& c,
-                                       bool g) {
+LOOPSCAN_INLINE Hit shade_facade(const StaticWorld& w, const FacadeObject& f, int face,
+                                 const Eigen::Vector3d& p, double t, const Conditions& c, bool g) {
   if (face == kTop) {
     const std::uint32_t salt = w.roof_salt;
     const bool snow = has_snow(c.season);
@@ -57,8 +55,8 @@ LOOPSCAN_SHADE_INLINE Hit shade_facade(const StaticWorld& w, const FacadeObject&
   return make_hit(t, p, Surface::Facade, sample_surface(albedo, u, f.ground_y - p.y(), g), f.id);
 }
 
-LOOPSCAN_SHADE_INLINE Hit shade_post(const PostObject& post, bool cap, const Eigen::Vector3d& p,
-                                     double t, bool g) {
+LOOPSCAN_INLINE Hit shade_post(const PostObject& post, bool cap, const Eigen::Vector3d& p, double t,
+                               bool g) {
   if (post.surface == Surface::Pole || cap)  // poles are plain paint; cut trunk tops too
     return make_hit(t, p, post.surface, TextureSample{post.albedo, 0.0}, post.id);
   const Cylinder& c = post.cylinder;
@@ -75,9 +73,8 @@ LOOPSCAN_SHADE_INLINE Hit shade_post(const PostObject& post, bool cap, const Eig
                   post.id);
 }
 
-LOOPSCAN_SHADE_INLINE Hit shade_crown(const StaticWorld& w, const CrownObject& crown,
-                                      const Eigen::Vector3d& p, double t, const Conditions& c,
-                                      bool g) {
+LOOPSCAN_INLINE Hit shade_crown(const StaticWorld& w, const CrownObject& crown,
+                                const Eigen::Vector3d& p, double t, const Conditions& c, bool g) {
   const double base = foliage_albedo(c.season);
   const std::uint32_t salt = w.leaf_salt;
   const auto albedo = [&](double x, double y, double z) {
@@ -86,8 +83,8 @@ LOOPSCAN_SHADE_INLINE Hit shade_crown(const StaticWorld& w, const CrownObject& c
   return make_hit(t, p, Surface::Crown, sample_volume(albedo, p.x(), p.y(), p.z(), g), crown.id);
 }
 
-LOOPSCAN_SHADE_INLINE Hit shade_car(const ParkedCar& car, int id, int face,
-                                    const Eigen::Vector3d& p, double t, bool g) {
+LOOPSCAN_INLINE Hit shade_car(const ParkedCar& car, int id, int face, const Eigen::Vector3d& p,
+                              double t, bool g) {
   double lu, lv;
   box_local(car.box, p.x(), p.z(), lu, lv);
   const CarStyle& s = car.style;
@@ -117,9 +114,9 @@ Surface ground_surface(const StaticWorld& w, double centreline_distance) {
 
 namespace {
 
-LOOPSCAN_SHADE_INLINE Hit shade_ground_as_inline(const StaticWorld& w, Surface s,
-                                                 const Eigen::Vector3d& p, double t,
-                                                 const Conditions& c, bool g) {
+LOOPSCAN_INLINE Hit shade_ground_as_inline(const StaticWorld& w, Surface s,
+                                           const Eigen::Vector3d& p, double t, const Conditions& c,
+                                           bool g) {
   const std::uint32_t salt = w.ground_salt;
   if (s == Surface::Road) {  // the road is cleared of snow
     return make_hit(t, p, Surface::Road,
@@ -137,10 +134,10 @@ LOOPSCAN_SHADE_INLINE Hit shade_ground_as_inline(const StaticWorld& w, Surface s
   return make_hit(t, p, s, sample_surface(albedo, p.x(), p.z(), g), -1);
 }
 
-LOOPSCAN_SHADE_INLINE Hit shade_hit_inline(const StaticWorld& w, const HitRef& ref,
-                                           const Eigen::Vector3d& o, const Eigen::Vector3d& d,
-                                           double t, const std::vector<ParkedCar>* cars,
-                                           const Conditions& c, bool gradient) {
+LOOPSCAN_INLINE Hit shade_hit_inline(const StaticWorld& w, const HitRef& ref,
+                                     const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t,
+                                     const std::vector<ParkedCar>* cars, const Conditions& c,
+                                     bool gradient) {
   const Eigen::Vector3d p = o + t * d;
   if (ref.ground) return shade_ground(w, p, t, c, gradient);
   const std::size_t i = code_index(ref.code);
