@@ -74,11 +74,16 @@ std::vector<Target> cli_targets() {
                            {"incoming_id_file.txt", describe_output_ids(4)},
                            {"frames.txt", identity_frames(4)},
                            {"gt.txt", poses_text(false, 30)}};
-  add_per_file(t, "evaluate", described,
-               {"signatures.txt", "incoming_id_file.txt", "frames.txt", "gt.txt"},
+  Files evaluated = described;
+  evaluated["protocol.yaml"] =
+      "mode: default\nevaluation:\n  fusion: fused\n  same_session:\n    mask: 1\n"
+      "    threshold_m: 10\n";
+  add_per_file(t, "evaluate", evaluated,
+               {"signatures.txt", "incoming_id_file.txt", "frames.txt", "gt.txt", "protocol.yaml"},
                [](const std::string& d, const std::string& o, long) {
-                 return Args{"evaluate",    "--method", "sc", "--signatures", d, "--gt",
-                             d + "/gt.txt", "--mask",   "1",  "--out",        o};
+                 return Args{"evaluate", "--method",    "sc",       "--signatures",       d,
+                             "--gt",     d + "/gt.txt", "--config", d + "/protocol.yaml", "--out",
+                             o};
                });
   add_per_file(t, "pairs", {{"pairs.txt", "0.9 1\n0.75 0\n0.5 1\n0.125 0\n"}}, {"pairs.txt"},
                [](const std::string& d, const std::string& o, long) {
@@ -98,7 +103,9 @@ std::vector<Target> cli_targets() {
                      "render", "--trajectory", "builtin:short",    "--frames", "1", "--scale",
                      "0.05",   "--calib",      d + "/camera.yaml", "--out",    o};
                });
-  Files sequence = {{"calib.txt", kCalib}, {"times.txt", "0\n0.1\n0.2\n0.3\n"}};
+  Files sequence = {{"calib.txt", kCalib},
+                    {"times.txt", "0\n0.1\n0.2\n0.3\n"},
+                    {"segments.yaml", "odometry_metrics:\n  segment_lengths_m: [1]\n"}};
   for (int i = 0; i < 4; ++i) {
     char name[64];
     for (int cam = 0; cam < 2; ++cam) {
@@ -108,7 +115,8 @@ std::vector<Target> cli_targets() {
   }
   add_per_file(t, "vo", sequence, {"calib.txt", "times.txt", "image_0/000001.png"},
                [](const std::string& d, const std::string& o, long) {
-                 return Args{"vo", "--kitti", d, "--segments", "1", "--quiet", "--out", o};
+                 return Args{"vo",      "--kitti", d, "--config", d + "/segments.yaml",
+                             "--quiet", "--out",   o};
                });
   return t;
 }

@@ -2,14 +2,14 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "cli_guidance.hpp"
-#include "commands.hpp"
+#include "cli/commands.hpp"
+#include "cli/guidance.hpp"
+#include "cli/output_sets.hpp"
 #include "loopscan/io/errors.hpp"
-#include "output_sets.hpp"
 
 int main(int argc, char** argv) {
   loopscan::cli::set_command_line(argc, argv);
-  CLI::App app{"loopscan: fast, robust place recognition for stereo visual odometry"};
+  CLI::App app{"loopscan: fast, robust place recognition for stereo visual odometry", "loopscan"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("loopscan ") + LOOPSCAN_VERSION);
   loopscan::cli::add_describe_command(app);
@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   loopscan::cli::add_vocab_command(app);
   loopscan::cli::add_close_command(app);
   loopscan::cli::add_slam_command(app);
+  loopscan::cli::add_config_command(app);
   loopscan::cli::accept_comma_lists(app);
   if (const std::string unknown = loopscan::cli::unknown_command(app, argc, argv);
       !unknown.empty()) {

@@ -31,11 +31,12 @@ void bind_io(py::module_& m) {
   m.def(
       "read_positions",
       [](const std::string& path, const std::string& format) {
-        return from_positions(io::read_positions(path, io::parse_gt_format(format)));
+        return from_positions(io::read_positions(path, io::gt_format(path, format)));
       },
-      py::arg("path"), py::arg("format") = "kitti",
+      py::arg("path"), py::arg("format") = "auto",
       "Ground truth, one position a line: KITTI poses (camera-to-world 3x4) or RobotCar GPS "
-      "(northing easting down) -> float64 (N, 3).");
+      "(northing easting down), told apart by the numbers a line ('auto'), or 'kitti' / "
+      "'robotcar' -> float64 (N, 3).");
   py::class_<LoadedSignatures> cls(m, "SignatureSet", "A `describe` output: signatures and ids.");
   bind_places<LoadedSignatures>(cls);
   cls.def_readonly("positions", &LoadedSignatures::positions,
@@ -53,7 +54,7 @@ void bind_io(py::module_& m) {
         return LoadedSignatures{places_of(set.places, set.keyframe_ids, set.frames),
                                 from_positions(set.positions)};
       },
-      py::arg("path"), py::arg("method") = "sc", py::arg("gt") = "", py::arg("gt_format") = "kitti",
+      py::arg("path"), py::arg("method") = "sc", py::arg("gt") = "", py::arg("gt_format") = "auto",
       "A `describe` output directory (signatures.txt + incoming_id_file.txt); gt: a ground-truth "
       "file whose line = keyframe id gives each place's position.");
 }

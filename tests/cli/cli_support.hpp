@@ -56,6 +56,13 @@ inline void write_sequence(const fs::path& dir, int keyframes) {
   write(dir / "pts.txt", pts.str());
 }
 
+// " --config FILE" with FILE = dir/name.yaml holding `yaml` (a partial configuration).
+inline std::string config(const fs::path& dir, const std::string& name, const std::string& yaml) {
+  const fs::path p = dir / (name + ".yaml");
+  write(p, yaml);
+  return " --config " + p.string();
+}
+
 inline std::vector<std::string> read_lines(const fs::path& p) {
   std::vector<std::string> lines;
   std::ifstream in(p);

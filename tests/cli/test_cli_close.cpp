@@ -7,10 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_support.hpp"
-#include "support/test_support.hpp"
 #include "loopscan/closure/loop_closer.hpp"
 #include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/io/sodso.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan {
 namespace {
@@ -23,10 +23,13 @@ const path& drives() {
     // One folder a process: ctest runs the cases of this file in parallel processes.
     const path d = test::temp_dir("close_" + std::to_string(getpid()));
     for (const char* season : {"summer", "winter"}) {
-      const test::CliResult r = test::run("simulate --trajectory builtin:short --drift 0.02 "
-                                          "--drift-rotation 0.06 --season " + std::string(season) +
-                                          " --session " + (season[0] == 's' ? "1" : "7") +
-                                          " --out " + (d / season).string());
+      const std::string drift =
+          test::config(d, "drift",
+                       "simulator:\n  vo:\n    drift_translation_per_m: 0.02\n"
+                       "    drift_rotation_deg_per_m: 0.06\n");
+      const test::CliResult r = test::run(
+          "simulate --trajectory builtin:short" + drift + " --season " + std::string(season) +
+          " --session " + (season[0] == 's' ? "1" : "7") + " --out " + (d / season).string());
       EXPECT_EQ(r.code, 0) << r.output;
     }
     return d;
@@ -67,7 +70,8 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
 
   // The library, streaming the same files, gives the same corrected poses.
   const path s = drives() / "summer";
-  const std::vector<KeyframePose> poses = io::read_sodso_poses((s / "poses_history_file.txt").string());
+  const std::vector<KeyframePose> poses =
+      io::read_sodso_poses((s / "poses_history_file.txt").string());
   const std::vector<IdPoint> points = io::read_sodso_points((s / "pts_history_file.txt").string());
   closure::LoopCloser closer(closure::LoopCloserConfig::make(Method::ScanContext));
   for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
@@ -75,7 +79,8 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
   });
   closer.finish();
   const std::vector<KeyframePose> online = closer.corrected_poses();
-  const std::vector<KeyframePose> written = io::read_sodso_poses((out / "poses_closed.txt").string());
+  const std::vector<KeyframePose> written =
+      io::read_sodso_poses((out / "poses_closed.txt").string());
   ASSERT_EQ(online.size(), written.size());
   for (std::size_t i = 0; i < online.size(); ++i) {
     EXPECT_EQ(online[i].id, written[i].id);
@@ -106,13 +111,17 @@ TEST(CliClose, BadInputIsRefusedWithNothingWritten) {
   // A truncated map.
   const std::string map = test::file_bytes(map_out / "map.db");
   test::write(dir / "cut.db", map.substr(0, map.size() / 2));
-  test::CliResult r = test::run(close_args("winter", dir / "o1") + " --map " + (dir / "cut.db").string());
+  test::CliResult r =
+      test::run(close_args("winter", dir / "o1") + " --map " + (dir / "cut.db").string());
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("cut.db"), std::string::npos) << r.output;
-  // A map of another method.
-  r = test::run(close_args("winter", dir / "o2") + " --method m2dp --map " + (map_out / "map.db").string());
+  // A map of another method: the flag contradicts the map, both named.
+  r = test::run(close_args("winter", dir / "o2") + " --method m2dp --map " +
+                (map_out / "map.db").string());
   EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find("expected m2dp"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("conflicting methods: --method says m2dp"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("map.db says sc"), std::string::npos) << r.output;
   // A pose with NaN.
   std::vector<std::string> lines = test::read_lines(drives() / "summer" / "poses_history_file.txt");
   lines[5] = "10 1 0 0 nan 0 1 0 0 0 0 1 0";
@@ -132,11 +141,12 @@ TEST(CliSlam, RunsTheVoThenClosesLoopsOnRealKittiImages) {
   const path seq = path(test::shared_dir()) / "data/real/kitti06-000000-000050";
   if (!test::fs::exists(seq / "calib.txt")) GTEST_SKIP() << "needs " << seq << " (../shared)";
   const path out = test::temp_dir("slam_" + std::to_string(getpid())) / "out";
-  const test::CliResult r = test::run("slam --quiet --kitti " + seq.string() + " --out " + out.string());
+  const test::CliResult r =
+      test::run("slam --quiet --kitti " + seq.string() + " --out " + out.string());
   ASSERT_EQ(r.code, 0) << r.output;
-  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "trajectory.txt", "vo.json",
-                        "poses_closed.txt", "trajectory_closed.txt", "loops.csv", "metrics.json",
-                        "trajectory.svg", "map.db"}) {
+  for (const char* f : {"poses_history_file.txt", "pts_history_file.txt", "trajectory.txt",
+                        "vo.json", "poses_closed.txt", "trajectory_closed.txt", "loops.csv",
+                        "metrics.json", "trajectory.svg", "map.db"}) {
     EXPECT_TRUE(test::fs::exists(out / f)) << f;
   }
   // 51 frames driving straight: no revisit, so no loop, and the keyframes keep their poses.

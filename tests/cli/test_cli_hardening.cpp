@@ -30,8 +30,9 @@ TEST(CliHardening, OptionValuesOutsideTheirRangeAreRefused) {
   const fs::path d = temp_dir("options");
   write_sequence(d, 40);
   const std::string out = " --out " + (d / "o").string();
-  for (const std::string bad : {" --threads 200000000", " --threads 0", " --range inf",
-                                " --range 1e308", " --range nan", " --range -5", " --threads x"}) {
+  for (const std::string bad :
+       {" --threads 200000000", " --threads 0", " --threads inf", " --threads 1e308",
+        " --threads nan", " --threads -5", " --threads x"}) {
     const CliResult r = run(describe_args(d) + bad + out);
     EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
     EXPECT_TRUE(has(r, bad.substr(1, bad.find(' ', 1) - 1))) << r.output;  // names the option
@@ -39,17 +40,25 @@ TEST(CliHardening, OptionValuesOutsideTheirRangeAreRefused) {
   // Checked before any file is opened: the message names the option (the files do not exist).
   for (const auto& [args, option] : std::vector<std::pair<std::string, std::string>>{
            {"db query --db x --signatures y --k 0", "--k"},
-           {"db query --db x --signatures y --uniqueness nan", "--uniqueness"},
-           {"vocab train --kitti x --k 1000", "--k"},
+           {"db query --db x --signatures y --sessions nan", "--sessions"},
+           {"vocab train --kitti x --step 0", "--step"},
            {"render --trajectory builtin:short --scale 0", "--scale"},
-           {"simulate --trajectory builtin:short --drift nan", "--drift"}}) {
+           {"simulate --trajectory builtin:short --resets -3", "--resets"}}) {
     const CliResult r = run(args + " --out " + (d / "q").string());
     EXPECT_EQ(r.code, 2) << args;
     EXPECT_TRUE(has(r, option + ": expected a finite number in [")) << r.output;
   }
   EXPECT_FALSE(fs::exists(d / "o") || fs::exists(d / "q"));
+  // The configuration's values are checked as strictly, naming the file, line and key.
+  for (const std::string value : {"inf", "1e308", "nan", "-5"}) {
+    const CliResult r =
+        run(describe_args(d) + config(d, "range", "imitation:\n  range_m: " + value + "\n") + out);
+    EXPECT_EQ(r.code, 2) << value << ": " << r.output;
+    EXPECT_TRUE(has(r, "range.yaml:2: expected a number in [0.1, 1000] for imitation.range_m"))
+        << r.output;
+  }
   // In range: the same run works and describes on many threads identically.
-  ASSERT_EQ(run(describe_args(d) + " --threads 3 --range 45" + out).code, 0);
+  ASSERT_EQ(run(describe_args(d) + " --threads 3" + out).code, 0);
 }
 
 TEST(CliHardening, UnboundedInputsEndInAClearErrorFast) {
@@ -151,8 +160,8 @@ TEST(CliHardening, OutputDirectoriesAreOursAloneAndNeverHoldTheInputs) {
     EXPECT_TRUE(has(r, "no other loopscan command writing it")) << r.output;
   }
   // Re-running over a loopscan output replaces it as a whole.
-  ASSERT_EQ(run(describe_args(d) + " --range 30 --out " + (d / "sc").string()).code, 0);
-  EXPECT_NE(file_bytes(d / "sc/.loopscan").find("--range 30"), std::string::npos);
+  ASSERT_EQ(run(describe_args(d) + " --threads 2 --out " + (d / "sc").string()).code, 0);
+  EXPECT_NE(file_bytes(d / "sc/.loopscan").find("--threads 2"), std::string::npos);
   EXPECT_FALSE(has_temp_files(d));
 }
 

@@ -137,11 +137,16 @@ TEST(CliKill, KilledWritersLeaveTheOldSetOrTheNewOneNeverAMix) {
   // Inputs: a simulated drive, its signatures, a few rendered frames.
   const std::string poses = s + "/sim/poses_history_file.txt",
                     pts = s + "/sim/pts_history_file.txt";
+  write(d / "r30.yaml", "imitation:\n  range_m: 30\n");
+  write(d / "seg5.yaml", "odometry_metrics:\n  segment_lengths_m: [5]\n");
+  write(d / "voc4.yaml", "baselines:\n  vocabulary:\n    branching: 4\n    depth: 2\n");
+  write(d / "voc3.yaml", "baselines:\n  vocabulary:\n    branching: 3\n    depth: 2\n");
+  const std::string r30 = s + "/r30.yaml", seg5 = s + "/seg5.yaml";
   for (const std::string& args :
        {"simulate --trajectory builtin:short --seed 3 --out " + s + "/sim",
         "describe --method sc --poses " + poses + " --points " + pts + " --out " + s + "/sc",
-        "describe --method sc --range 30 --poses " + poses + " --points " + pts + " --out " + s +
-            "/sc30",
+        "describe --method sc --config " + r30 + " --poses " + poses + " --points " + pts +
+            " --out " + s + "/sc30",
         "render --trajectory builtin:short --frames 24 --scale 0.25 --out " + s + "/ren"}) {
     ASSERT_EQ(run(args).code, 0) << args;
   }
@@ -151,11 +156,11 @@ TEST(CliKill, KilledWritersLeaveTheOldSetOrTheNewOneNeverAMix) {
   std::vector<Writer> writers = {
       {"describe",
        {"describe", "--method", "sc", "--poses", poses, "--points", pts},
-       {"describe", "--method", "sc", "--range", "30", "--poses", poses, "--points", pts},
+       {"describe", "--method", "sc", "--config", r30, "--poses", poses, "--points", pts},
        d / "w/describe"},
       {"evaluate",
-       {"evaluate", "--method", "sc", "--signatures", s + "/sc", "--gt", gt},
-       {"evaluate", "--method", "sc", "--signatures", s + "/sc30", "--gt", gt},
+       {"evaluate", "--signatures", s + "/sc", "--gt", gt},
+       {"evaluate", "--signatures", s + "/sc30", "--gt", gt},
        d / "w/evaluate"},
       {"pairs",
        {"pairs", "--scores", s + "/pairs_a.txt"},
@@ -171,8 +176,8 @@ TEST(CliKill, KilledWritersLeaveTheOldSetOrTheNewOneNeverAMix) {
         "winter"},
        d / "w/render"},
       {"vo",
-       {"vo", "--kitti", s + "/ren", "--segments", "5", "--quiet"},
-       {"vo", "--kitti", s + "/ren", "--frames", "18", "--segments", "5", "--quiet"},
+       {"vo", "--kitti", s + "/ren", "--config", seg5, "--quiet"},
+       {"vo", "--kitti", s + "/ren", "--frames", "18", "--config", seg5, "--quiet"},
        d / "w/vo"},
       {"db build",
        {"db", "build", "--signatures", s + "/sc"},
@@ -183,12 +188,12 @@ TEST(CliKill, KilledWritersLeaveTheOldSetOrTheNewOneNeverAMix) {
        {"db", "query", "--db", s + "/w/map.db", "--signatures", s + "/sc", "--k", "5"},
        d / "w/query"},
       {"vocab train",
-       {"vocab", "train", "--kitti", s + "/ren", "--k", "4", "--depth", "2", "--step", "4"},
-       {"vocab", "train", "--kitti", s + "/ren", "--k", "3", "--depth", "2", "--step", "4"},
+       {"vocab", "train", "--kitti", s + "/ren", "--config", s + "/voc4.yaml", "--step", "4"},
+       {"vocab", "train", "--kitti", s + "/ren", "--config", s + "/voc3.yaml", "--step", "4"},
        d / "w/voc.bin"},
       {"run",
-       {"run", "--kitti", s + "/ren", "--methods", "sc", "--segments", "5", "--quiet"},
-       {"run", "--kitti", s + "/ren", "--methods", "delight", "--segments", "5", "--quiet"},
+       {"run", "--kitti", s + "/ren", "--methods", "sc", "--config", seg5, "--quiet"},
+       {"run", "--kitti", s + "/ren", "--methods", "delight", "--config", seg5, "--quiet"},
        d / "w/run"},
   };
   if (kills >= 50) {

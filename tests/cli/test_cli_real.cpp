@@ -27,8 +27,10 @@ TEST(CliReal, VoOnRealKittiFramesStaysWithinOnePercent) {
   const path seq = real_kitti06();
   if (!test::fs::exists(seq / "calib.txt")) GTEST_SKIP() << "needs " << seq << " (../shared)";
   const path dir = test::temp_dir("real_vo_" + std::to_string(getpid()));
-  const test::CliResult r = test::run("vo --quiet --kitti " + seq.string() +
-                                      " --segments 10 20 30 40 --out " + (dir / "vo").string());
+  const test::CliResult r = test::run(
+      "vo --quiet --kitti " + seq.string() +
+      test::config(dir, "segments", "odometry_metrics:\n  segment_lengths_m: [10, 20, 30, 40]\n") +
+      " --out " + (dir / "vo").string());
   ASSERT_EQ(r.code, 0) << r.output;
   const nlohmann::json m = json_of(dir / "vo" / "vo.json")["metrics"];
   // Measured 0.77 % and 1.76 deg/100 m over 14 segments, ATE 0.04 m (README).
@@ -92,15 +94,21 @@ TEST(CliReal, LidarScansOfAReverseRevisitMatchEachOther) {
   }
   const double expected = std::abs(std::remainder(yaw_gt[1] - yaw_gt[0], 360.0));
   ASSERT_GT(expected, 120.0);
+  // The paper's parameters, and Scan Context's own (80 m, the highest point above the ground).
   for (const std::string params : {"paper", "scan-context"}) {
     const path dir = test::temp_dir("real_lidar_" + params + std::to_string(getpid()));
     const std::string sig = (dir / "sig").string(), db = (dir / "map.db").string();
+    const std::string config = params == "paper"
+                                   ? ""
+                                   : test::config(dir, "sc",
+                                                  "imitation:\n  range_m: 80\ndescriptors:\n"
+                                                  "  scan_context:\n    max_height: true\n");
     test::CliResult r =
-        test::run("describe --method sc --lidar-params " + params + " --lidar " +
-                  (shared / "data/lidar").string() + " " + pair.string() + " --out " + sig);
+        test::run("describe --method sc" + config + " --lidar " + (shared / "data/lidar").string() +
+                  " " + pair.string() + " --out " + sig);
     ASSERT_EQ(r.code, 0) << r.output;
     // Two threads describe the same places, byte for byte.
-    r = test::run("describe --method sc --threads 2 --lidar-params " + params + " --lidar " +
+    r = test::run("describe --method sc --threads 2" + config + " --lidar " +
                   (shared / "data/lidar").string() + " " + pair.string() + " --out " + sig + "2");
     ASSERT_EQ(r.code, 0) << r.output;
     EXPECT_EQ(test::file_bytes(path(sig) / "signatures.txt"),
@@ -132,9 +140,9 @@ TEST(CliReal, LidarScansOfAReverseRevisitMatchEachOther) {
     EXPECT_NEAR(std::abs(best[a].second), expected, 12.0) << params;
     EXPECT_NEAR(std::abs(best[b].second), expected, 12.0) << params;
   }
-  // VO-only options with --lidar, and a damaged scan: exit 2, nothing written.
+  // A VO export's options with --lidar, and a damaged scan: exit 2, nothing written.
   const path dir = test::temp_dir("real_lidar_bad" + std::to_string(getpid()));
-  EXPECT_EQ(test::run("describe --method sc --lidar " + pair.string() + " --frame pca --out " +
+  EXPECT_EQ(test::run("describe --method sc --lidar " + pair.string() + " --reset-ids x --out " +
                       (dir / "a").string())
                 .code,
             2);

@@ -59,8 +59,11 @@ TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
   // Two-sided scans in the centroid frame: every keyframe gets a place (no INIT_FRAME gap).
   const std::string vo = " --poses " + (d / "sim/poses_history_file.txt").string() + " --points " +
                          (d / "sim/pts_history_file.txt").string();
-  const CliResult r4 = run("describe --method sc --lookahead 20 --frame centroid" + vo + " --out " +
-                           (d / "sc2").string());
+  const std::string two_sided =
+      config(d, "two_sided",
+             "imitation:\n  lookahead_m: 20\ndescriptors:\n  scan_context:\n    frame: centroid\n");
+  const CliResult r4 =
+      run("describe --method sc" + two_sided + vo + " --out " + (d / "sc2").string());
   ASSERT_EQ(r4.code, 0) << r4.output;
   EXPECT_EQ(read_lines(d / "sc2/incoming_id_file.txt").size(),
             read_lines(d / "sim/poses_history_file.txt").size());
@@ -70,14 +73,21 @@ TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
   ASSERT_EQ(r5.code, 0) << r5.output;
   std::ifstream(d / "eval2/metrics.json") >> metrics;
   EXPECT_TRUE(metrics.contains("fusion_weights"));
-  EXPECT_EQ(run("evaluate --method sc --structure-weight nan --signatures " + (d / "sc2").string() +
-                " --gt " + (d / "sim/gt.txt").string() + " --out " + (d / "bad").string())
+  EXPECT_EQ(run("evaluate --method sc" +
+                config(d, "nan_weight", "evaluation:\n  structure_weight: nan\n") +
+                " --signatures " + (d / "sc2").string() + " --gt " + (d / "sim/gt.txt").string() +
+                " --out " + (d / "bad").string())
                 .code,
             2);
   // Mistakes: an unknown frame; reference mode is the paper's forward-only scan in PCA.
+  const std::string sc = "descriptors:\n  scan_context:\n";
   for (const std::string bad :
-       {" --frame gravity", " --mode reference --lookahead 10", " --mode reference --frame camera",
-        " --lookahead -1", " --lookahead nan", " --frame camera --lateral-offset inf"}) {
+       {config(d, "b1", sc + "    frame: gravity\n"),
+        " --mode reference" + config(d, "b2", "imitation:\n  lookahead_m: 10\n"),
+        " --mode reference" + config(d, "b3", sc + "    frame: camera\n"),
+        config(d, "b4", "imitation:\n  lookahead_m: -1\n"),
+        config(d, "b5", "imitation:\n  lookahead_m: nan\n"),
+        config(d, "b6", sc + "    frame: camera\n    lateral_offset_m: .inf\n")}) {
     const CliResult r6 = run("describe --method sc" + bad + vo + " --out " + (d / "bad").string());
     EXPECT_EQ(r6.code, 2) << bad << ": " << r6.output;
     EXPECT_FALSE(fs::exists(d / "bad")) << bad;
@@ -120,8 +130,8 @@ TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
   std::ifstream(d / "q/metrics.json") >> online;
   std::ifstream(d / "ev/metrics.json") >> offline;
   // The database fuses per query; adaptive fusion needs the whole matrix: refused, exit 2.
-  EXPECT_EQ(run("db build --fusion adaptive --signatures " + summer + "/sc --out " +
-                (d / "bad.db").string())
+  EXPECT_EQ(run("db build" + config(d, "adaptive", "database:\n  fusion: adaptive\n") +
+                " --signatures " + summer + "/sc --out " + (d / "bad.db").string())
                 .code,
             2);
   EXPECT_FALSE(fs::exists(d / "bad.db"));
@@ -139,8 +149,8 @@ TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
 
   // Compact storage: a file ~3.4x smaller, the same answers up to the rounding.
   const std::string compact = (d / "compact.db").string();
-  r = run("db build --storage compact --signatures " + summer + "/sc --gt " + summer +
-          "/gt.txt --out " + compact);
+  r = run("db build" + config(d, "compact", "database:\n  storage: compact\n") + " --signatures " +
+          summer + "/sc --gt " + summer + "/gt.txt --out " + compact);
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_GT(fs::file_size(db), 3 * fs::file_size(compact));
   r = run("db query --db " + compact + " --signatures " + fall + "/sc --gt " + fall +
@@ -171,21 +181,26 @@ TEST(Cli, DbBuildAndQueryReproduceTheCrossSessionEvaluation) {
 }
 
 // builtin:reverse drives a street east, then west in the other lane: the places described
-// from the next lanes (--lateral-offset) make db query recognise the reverse drive, and so do
-// the default lateral versions.
+// from the next lanes (descriptors.scan_context.lateral_offset_m) make db query recognise the
+// reverse drive, and so do the default lateral versions.
 TEST(Cli, DbQueryWithLaneVersionsRecognisesAReverseDrive) {
   const fs::path d = temp_dir("reverse");
   const std::string sim = (d / "sim").string();
   ASSERT_EQ(run("simulate --trajectory builtin:reverse --season summer --seed 3 --out " + sim).code,
             0);
   const std::string vo = " --method sc --poses " + sim + "/poses_history_file.txt --points " + sim +
-                         "/pts_history_file.txt --lookahead 20 --frame camera";
+                         "/pts_history_file.txt";
+  const std::string two_sided = "imitation:\n  lookahead_m: 20\n";
   for (const std::string off : {"0", "-3.5", "3.5"}) {  // one descriptor each, no versions
-    const CliResult r = run("describe" + vo + " --lateral-offset " + off +
-                            " --lateral-versions 0 --out " + (d / off).string());
+    const std::string lane =
+        config(d, "lane" + off,
+               two_sided + "descriptors:\n  scan_context:\n    lateral_offset_m: " + off +
+                   "\n    lateral_versions_m: []\n");
+    const CliResult r = run("describe" + vo + lane + " --out " + (d / off).string());
     ASSERT_EQ(r.code, 0) << r.output;
   }
-  const CliResult described = run("describe" + vo + " --out " + (d / "versions").string());
+  const CliResult described = run("describe" + vo + config(d, "versions", two_sided) + " --out " +
+                                  (d / "versions").string());
   ASSERT_EQ(described.code, 0) << described.output;  // the default lateral versions
   ASSERT_EQ(run("db build --signatures " + (d / "0").string() + " --gt " + sim + "/gt.txt --out " +
                 (d / "map.db").string())
@@ -194,8 +209,8 @@ TEST(Cli, DbQueryWithLaneVersionsRecognisesAReverseDrive) {
   auto opposite_top1 = [&](const std::string& lanes, int& loops, const std::string& queries = "0") {
     const fs::path out = d / ("q" + queries + std::to_string(lanes.size()));
     const CliResult r = run("db query --db " + (d / "map.db").string() + " --signatures " +
-                            (d / queries).string() + lanes + " --exact --k 1 --mask 100 " +
-                            "--threshold 10 --gt " + sim + "/gt.txt --out " + out.string());
+                            (d / queries).string() + lanes + " --exact --k 1 --same-session " +
+                            "--gt " + sim + "/gt.txt --out " + out.string());
     EXPECT_EQ(r.code, 0) << r.output;
     nlohmann::json m;
     std::ifstream(out / "metrics.json") >> m;

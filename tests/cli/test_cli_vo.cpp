@@ -21,8 +21,10 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   const fs::path d = temp_dir("vo");
   const std::string seq = (d / "seq").string();
   ASSERT_EQ(run("render --trajectory builtin:short --scale 0.25 --frames 36 --out " + seq).code, 0);
+  const std::string segments =
+      config(d, "segments", "odometry_metrics:\n  segment_lengths_m: [10, 20]\n");
   const CliResult vo =
-      run("vo --kitti " + seq + " --out " + (d / "vo").string() + " --segments 10 20 --quiet");
+      run("vo --kitti " + seq + " --out " + (d / "vo").string() + segments + " --quiet");
   ASSERT_EQ(vo.code, 0) << vo.output;
   EXPECT_NE(vo.output.find("fps"), std::string::npos) << vo.output;
   EXPECT_NE(vo.output.find("translation"), std::string::npos) << vo.output;
@@ -51,8 +53,9 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   ASSERT_FALSE(b["reset_frames"].empty());
   EXPECT_EQ(b["reset_frames"][0].get<int>(), 12);
   // run: VO + describe + evaluate + report.
-  const CliResult all = run("run --kitti " + seq + " --out " + (d / "run").string() +
-                            " --methods sc delight --segments 10 --quiet");
+  const CliResult all =
+      run("run --kitti " + seq + " --out " + (d / "run").string() + " --methods sc delight" +
+          config(d, "segment10", "odometry_metrics:\n  segment_lengths_m: [10]\n") + " --quiet");
   ASSERT_EQ(all.code, 0) << all.output;
   // --quiet: the numbered steps and the results, no progress or per-part summary lines.
   EXPECT_NE(all.output.find("[2/5] sc: describe"), std::string::npos) << all.output;
@@ -90,7 +93,10 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.output.find("nope"), std::string::npos) << missing.output;
   EXPECT_FALSE(fs::exists(d / "x"));
-  EXPECT_EQ(run("vo --kitti " + seq + " --points 0 --out " + (d / "y").string()).code, 2);
+  EXPECT_EQ(run("vo --kitti " + seq + config(d, "points0", "vo:\n  points_per_keyframe: 0\n") +
+                " --out " + (d / "y").string())
+                .code,
+            2);
   EXPECT_EQ(run("run --kitti " + seq + " --methods sc nope --out " + (d / "y").string()).code, 2);
   EXPECT_EQ(run("run --kitti " + seq + " --methods bow --out " + (d / "y").string()).code, 2);
   EXPECT_FALSE(fs::exists(d / "y"));
@@ -108,12 +114,14 @@ TEST(Cli, ImageBaselinesDescribeAndEvaluateTheSameKeyframes) {
   // Keyframes to describe: every other frame, as a describe output lists them.
   fs::create_directories(d / "kf");
   write(d / "kf/incoming_id_file.txt", "0\n2\n4\n6\n8\n10\n");
-  const CliResult voc =
-      run("vocab train --kitti " + seq + " --step 3 --k 4 --depth 3 --features 500 --out " +
-          (d / "voc.bin").string());
+  const std::string small = config(d, "small",
+                                   "baselines:\n  vocabulary:\n    branching: 4\n    depth: 3\n"
+                                   "  orb:\n    features: 500\n");
+  const CliResult voc = run("vocab train --kitti " + seq + " --step 3" + small + " --out " +
+                            (d / "voc.bin").string());
   ASSERT_EQ(voc.code, 0) << voc.output;
-  ASSERT_EQ(run("vocab train --kitti " + seq +
-                " --step 3 --k 4 --depth 3 --features 500 --text --out " + (d / "voc.txt").string())
+  ASSERT_EQ(run("vocab train --kitti " + seq + " --step 3" + small + " --text --out " +
+                (d / "voc.txt").string())
                 .code,
             0);
   for (const std::string& m : {std::string("gist"), std::string("bow")}) {
@@ -122,9 +130,11 @@ TEST(Cli, ImageBaselinesDescribeAndEvaluateTheSameKeyframes) {
                                (d / "kf").string() + vocab + " --out " + (d / m).string());
     ASSERT_EQ(desc.code, 0) << desc.output;
     EXPECT_EQ(read_lines(d / m / "incoming_id_file.txt").size(), 6u);
-    const CliResult ev =
-        run("evaluate --method " + m + " --signatures " + (d / m).string() + " --gt " + seq +
-            "/poses.txt --mask 3 --threshold 3 --out " + (d / m / "eval").string());
+    const CliResult ev = run(
+        "evaluate --method " + m + " --signatures " + (d / m).string() + " --gt " + seq +
+        "/poses.txt" +
+        config(d, "protocol", "evaluation:\n  same_session:\n    mask: 3\n    threshold_m: 3\n") +
+        " --out " + (d / m / "eval").string());
     ASSERT_EQ(ev.code, 0) << ev.output;
     std::ifstream in(d / m / "eval/metrics.json");
     const nlohmann::json j = nlohmann::json::parse(in);

@@ -167,6 +167,26 @@ TEST(LoopCloser, ASecondSessionJoinsTheSavedMapAtItsFirstLoop) {
   config.recognition.session = 0;
   EXPECT_THROW(closure::LoopCloser(config, first.corrected_map(), first.place_clouds()),
                std::invalid_argument);
+  // The map records how its places were described: another mode or frame is refused, named.
+  EXPECT_EQ(first.corrected_map().config().mode, Mode::Default);
+  EXPECT_EQ(first.corrected_map().config().frame, DescriptorFrame::Pca);
+  closure::LoopCloserConfig camera = closure::LoopCloserConfig::make(Method::ScanContext);
+  camera.recognition.session = 1;
+  camera.recognition.descriptors.scan_context.frame = DescriptorFrame::Camera;
+  try {
+    closure::LoopCloser closer(camera, first.corrected_map(), first.place_clouds());
+    ADD_FAILURE() << "a camera-frame closer took a PCA-frame map";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("the map's places were described in the pca frame, this "
+                                         "describes in the camera frame"),
+              std::string::npos)
+        << e.what();
+  }
+  closure::LoopCloserConfig reference =
+      closure::LoopCloserConfig::make(Method::ScanContext, Mode::Reference);
+  reference.recognition.session = 1;
+  EXPECT_THROW(closure::LoopCloser(reference, first.corrected_map(), first.place_clouds()),
+               std::invalid_argument);
 }
 
 TEST(LoopCloser, BadKeyframesAreRefused) {

@@ -153,10 +153,10 @@ class PatchedDatabase : public BadValues {
   std::string load_error(const std::string& path) {
     return error_of([&] { load_database(path); });
   }
-  // Header 56 bytes (version 3); a place: session, keyframe, pose flag, frame (9 f32), pose
+  // Header 58 bytes (version 4); a place: session, keyframe, pose flag, frame (9 f32), pose
   // (12 f64), payload.
-  static constexpr std::size_t kPlace = 56, kFrame = kPlace + 9, kPose = kFrame + 36,
-                               kPayload = kPose + 96;
+  static constexpr std::size_t kMode = 44, kFrameKind = 45, kPlace = 58, kFrame = kPlace + 9,
+                               kPose = kFrame + 36, kPayload = kPose + 96;
 };
 
 TEST_F(PatchedDatabase, ValidChecksumButImpossibleValuesAreRejected) {
@@ -172,6 +172,10 @@ TEST_F(PatchedDatabase, ValidChecksumButImpossibleValuesAreRejected) {
   EXPECT_TRUE(
       has(load_error(patched(kPose + 24, std::numeric_limits<double>::infinity())), "pose"));
   EXPECT_TRUE(has(load_error(patched(kPlace, std::int32_t{-5})), ">= 0"));
+  EXPECT_TRUE(has(load_error(patched(kMode, std::uint8_t{2})), "mode 2"))
+      << load_error(patched(kMode, std::uint8_t{2}));
+  EXPECT_TRUE(has(load_error(patched(kFrameKind, std::uint8_t{4})), "frame kind 4"));
+  EXPECT_FALSE(load_database(patched(kMode, std::uint8_t{255})).config().mode.has_value());
 }
 
 TEST_F(PatchedDatabase, BinaryErrorsNameTheByteAndTheProblem) {

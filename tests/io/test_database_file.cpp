@@ -2,17 +2,17 @@
 // flips that must all be rejected with io::InputError (never a crash, never a silent load).
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <cstring>
 #include <random>
 
 #include <unistd.h>
 
+#include <zlib.h>
 #include "loopscan/core/database/database.hpp"
 #include "loopscan/io/database_file.hpp"
 #include "loopscan/io/errors.hpp"
-#include <zlib.h>
 
 namespace loopscan {
 namespace {
@@ -92,6 +92,29 @@ TEST_F(DatabaseFile, RoundTripIsBitExactForEveryMethod) {
   }
 }
 
+// A map records how its places were described (file version 4), so that queries and later
+// sessions can be checked against it; a map that does not know says so (nullopt).
+TEST_F(DatabaseFile, ModeAndDescriptorFrameRoundTrip) {
+  for (Mode mode : {Mode::Reference, Mode::Default}) {
+    for (DescriptorFrame frame : {DescriptorFrame::Pca, DescriptorFrame::Camera,
+                                  DescriptorFrame::GravityPca, DescriptorFrame::Centroid}) {
+      DatabaseConfig cfg;
+      cfg.method = Method::M2dp;
+      cfg.mode = mode;
+      cfg.frame = frame;
+      io::save_database(Database(cfg), path("m.db"));
+      const Database back = io::load_database(path("m.db"));
+      ASSERT_TRUE(back.config().mode && back.config().frame);
+      EXPECT_EQ(*back.config().mode, mode);
+      EXPECT_EQ(*back.config().frame, frame);
+    }
+  }
+  io::save_database(Database{}, path("u.db"));
+  const Database unknown = io::load_database(path("u.db"));
+  EXPECT_FALSE(unknown.config().mode.has_value());
+  EXPECT_FALSE(unknown.config().frame.has_value());
+}
+
 TEST_F(DatabaseFile, EmptyDatabaseRoundTrips) {
   io::save_database(Database{}, path("e.db"));
   EXPECT_EQ(io::load_database(path("e.db")).size(), 0u);
@@ -140,9 +163,11 @@ TEST_F(DatabaseFile, WrongVersionMagicAndParametersHaveClearErrors) {
     }
     return std::string("loaded");
   };
-  std::string v4 = good;
-  v4[8] = 4;
-  EXPECT_NE(message(v4).find("format version 4"), std::string::npos) << message(v4);
+  std::string v5 = good;
+  v5[8] = 5;
+  EXPECT_NE(message(v5).find("format version 5, this build reads versions 1 to 4"),
+            std::string::npos)
+      << message(v5);
   std::string storage = good;
   storage[40] = 7;  // the storage field after the header's columns
   EXPECT_NE(message(storage).find("place storage 7"), std::string::npos) << message(storage);
@@ -185,7 +210,8 @@ TEST_F(DatabaseFile, PlaceCloudsRoundTripToTheCentimetreAndVersion1StillLoads) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(-90.f, 90.f);
   for (std::size_t i = 0; i < clouds.size(); ++i) {
-    for (std::size_t k = 0; k < 50 * i; ++k) clouds[i].points.emplace_back(u(rng), u(rng) / 20, u(rng));
+    for (std::size_t k = 0; k < 50 * i; ++k)
+      clouds[i].points.emplace_back(u(rng), u(rng) / 20, u(rng));
     clouds[i].structure = clouds[i].points.size() / 2;
   }
   io::save_database(db, path("c.db"), &clouds);
@@ -209,7 +235,7 @@ TEST_F(DatabaseFile, PlaceCloudsRoundTripToTheCentimetreAndVersion1StillLoads) {
   std::string v1 = read_bytes(path("n.db"));
   v1[8] = 1;
   v1.erase(v1.size() - 5, 1);  // the cloud flag before the checksum
-  v1.erase(40, 4);             // the storage field (version 3)
+  v1.erase(40, 6);             // the storage field (version 3), mode and frame (version 4)
   const auto crc = static_cast<std::uint32_t>(
       crc32(0L, reinterpret_cast<const Bytef*>(v1.data()), static_cast<uInt>(v1.size() - 4)));
   std::memcpy(&v1[v1.size() - 4], &crc, 4);

@@ -20,7 +20,9 @@ if [ "$mode" = real ]; then
   # A rendered 30-frame sequence through `run` (VO, describe, closing; its report inlines the
   # trajectory and loop-closing figures), and a simulated drive's precision-recall figure.
   "$cli" render --trajectory builtin:short --scale 0.25 --frames 30 --out "$work/seq" >/dev/null
-  "$cli" run --kitti "$work/seq" --out "$work/run" --methods sc --segments 10 --quiet >/dev/null
+  printf 'odometry_metrics:\n  segment_lengths_m: [10]\n' >"$work/segments.yaml"
+  "$cli" run --kitti "$work/seq" --out "$work/run" --methods sc --config "$work/segments.yaml" \
+    --quiet >/dev/null
   "$cli" simulate --trajectory builtin:short --season summer --seed 3 --out "$work/sim" >/dev/null
   "$cli" describe --method sc --poses "$work/sim/poses_history_file.txt" \
     --points "$work/sim/pts_history_file.txt" --out "$work/sc" >/dev/null

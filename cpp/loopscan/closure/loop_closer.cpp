@@ -1,19 +1,15 @@
 #include "loopscan/closure/loop_closer.hpp"
 
-#include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "loopscan/closure/pose_math.hpp"
+#include "loopscan/core/database/database_checks.hpp"
 #include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/timing.hpp"
 
 namespace loopscan::closure {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-}  // namespace
-
 using detail::isometry;
 using detail::orthonormalised;
 
@@ -52,7 +48,7 @@ void validate(const LoopCloserConfig& c) {
 }
 
 LoopCloser::LoopCloser(const LoopCloserConfig& config)
-    : LoopCloser(config, Database(config.recognition.database), {}) {}
+    : LoopCloser(config, Database(map_config(config.recognition)), {}) {}
 
 LoopCloser::LoopCloser(const LoopCloserConfig& config, Database map,
                        std::vector<PlaceCloud> map_clouds)
@@ -67,11 +63,7 @@ LoopCloser::LoopCloser(const LoopCloserConfig& config, Database map,
                                 " places but " + std::to_string(clouds_.size()) +
                                 " place clouds (a map saved without clouds cannot verify loops)");
   }
-  if (db_.config().method != config_.recognition.method) {
-    throw std::invalid_argument("loop closer: the map holds " + method_name(db_.config().method) +
-                                " places, this closer describes with " +
-                                method_name(config_.recognition.method));
-  }
+  require_same_description(db_.config(), map_config(config_.recognition), "loop closer");
   for (std::size_t i = 0; i < db_.size(); ++i) {
     if (db_.place(i).session == config_.recognition.session) {
       throw std::invalid_argument("loop closer: the map already has places of session " +
@@ -156,17 +148,16 @@ KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdP
   KeyframeClosure out;
   begin_keyframe(keyframe, out);
   // 1. Imitate the scan (the graph gets a node for every keyframe, scan or not).
-  auto t0 = Clock::now();
   Cloud scan;
-  const bool has_scan = imitator_.next_scan(keyframe, points, n_points, reset,
-                                            filter_for(config_.recognition.method), scan);
-  add_graph_node(keyframe, reset);
-  if (has_scan) {
-    imitator_.last_in_range(raw_);
+  bool has_scan = false;
+  {
+    const ScopedTimer timer(times_.scan);
+    has_scan = imitator_.next_scan(keyframe, points, n_points, reset,
+                                   filter_for(config_.recognition.method), scan);
+    add_graph_node(keyframe, reset);
+    if (has_scan) imitator_.last_in_range(raw_);
   }
-  times_.scan += ms_since(t0);
-  if (!has_scan) return out;
-  close_place(keyframe, scan, out);
+  if (has_scan) close_place(keyframe, scan, out);
   return out;
 }
 
@@ -174,13 +165,15 @@ KeyframeClosure LoopCloser::add_scan(const KeyframePose& keyframe, const Cloud& 
                                      bool reset) {
   KeyframeClosure out;
   begin_keyframe(keyframe, out);
-  const auto t0 = Clock::now();
-  const Cloud scan =
-      filter_scan(in_range, filter_for(config_.recognition.method), config_.recognition.imitation);
-  add_graph_node(keyframe, reset);
-  raw_.clear();
-  for (const PointI& p : in_range) raw_.push_back(p.p.cast<float>());
-  times_.scan += ms_since(t0);
+  Cloud scan;
+  {
+    const ScopedTimer timer(times_.scan);
+    scan = filter_scan(in_range, filter_for(config_.recognition.method),
+                       config_.recognition.imitation);
+    add_graph_node(keyframe, reset);
+    raw_.clear();
+    for (const PointI& p : in_range) raw_.push_back(p.p.cast<float>());
+  }
   close_place(keyframe, scan, out);
   return out;
 }
@@ -188,45 +181,51 @@ KeyframeClosure LoopCloser::add_scan(const KeyframePose& keyframe, const Cloud& 
 void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
                              KeyframeClosure& out) {
   // 2. Describe it: signature and the cloud verification aligns.
-  auto t0 = Clock::now();
   PlaceDescriptor place;
-  place.signature =
-      describe(config_.recognition.method, scan, config_.recognition.descriptors, &place.frame);
-  times_.describe += ms_since(t0);
-  t0 = Clock::now();
-  const TargetCloud target(voxel_cloud(raw_, config_.cloud), config_.normals);
-  times_.cloud += ms_since(t0);
+  {
+    const ScopedTimer timer(times_.describe);
+    place.signature =
+        describe(config_.recognition.method, scan, config_.recognition.descriptors, &place.frame);
+  }
+  std::optional<TargetCloud> target;
+  {
+    const ScopedTimer timer(times_.cloud);
+    target.emplace(voxel_cloud(raw_, config_.cloud), config_.normals);
+  }
   out.described = true;
   ++described_;
   ++times_.described;
   // 3. Query the map.
-  t0 = Clock::now();
-  out.candidates = db_.query(place, config_.candidates, config_.recognition.query);
-  times_.query += ms_since(t0);
+  {
+    const ScopedTimer timer(times_.query);
+    out.candidates = db_.query(place, config_.candidates, config_.recognition.query);
+  }
   // 4. Verify the candidates, 5. confirm by consistency.
-  t0 = Clock::now();
-  std::size_t index = 0;  // database place of the last verification
-  out.verified = verify(target, keyframe.id, out.candidates, index);
-  if (!out.verified.empty()) {
-    Loop& last = out.verified.back();
-    if (last.verdict == Verdict::Accepted) {
-      last.verdict = Verdict::Pending;
-      out.accepted = confirm(last, index);
+  {
+    const ScopedTimer timer(times_.verify);
+    std::size_t index = 0;  // database place of the last verification
+    out.verified = verify(*target, keyframe.id, out.candidates, index);
+    if (!out.verified.empty()) {
+      Loop& last = out.verified.back();
+      if (last.verdict == Verdict::Accepted) {
+        last.verdict = Verdict::Pending;
+        out.accepted = confirm(last, index);
+      }
+    }
+    for (const Loop& v : out.verified) {
+      loop_index_[{v.query, v.place_index}] = loops_.size();
+      loops_.push_back(v);
     }
   }
-  for (const Loop& v : out.verified) {
-    loop_index_[{v.query, v.place_index}] = loops_.size();
-    loops_.push_back(v);
-  }
-  times_.verify += ms_since(t0);
   // 6. Join the map.
   db_.add({config_.recognition.session, keyframe.id}, place,
           input_poses_[pose_index_.at(keyframe.id)].T_cam_world);  // orthonormalised
-  t0 = Clock::now();
-  clouds_.push_back(to_place_cloud(target));
-  times_.cloud += ms_since(t0);
+  {
+    const ScopedTimer timer(times_.cloud);
+    clouds_.push_back(to_place_cloud(*target));
+  }
   // 7. Loop edges, and a solve when the revisit is new (or enough keyframes passed).
-  t0 = Clock::now();
+  const ScopedTimer timer(times_.graph);
   for (Loop& loop : out.accepted) {
     loop.verdict = Verdict::Accepted;
     const int a = graph_node_[pose_index_.at(loop.query)];
@@ -254,7 +253,6 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
     ++times_.solves;
   }
   update_verdicts(out);
-  times_.graph += ms_since(t0);
 }
 
 // Loops the graph refused or dropped are inconsistent after all; the rest of the graph's are
@@ -273,13 +271,12 @@ void LoopCloser::update_verdicts(KeyframeClosure& out) {
 GraphSolve LoopCloser::finish() {
   GraphSolve s;
   if (unsolved_loops_) {
-    const auto t0 = Clock::now();
+    const ScopedTimer timer(times_.graph);
     s = graph_.optimise();
     unsolved_loops_ = false;
     ++times_.solves;
     KeyframeClosure none;
     update_verdicts(none);
-    times_.graph += ms_since(t0);
   }
   return s;
 }

@@ -21,7 +21,8 @@ constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8 + 4 + 4 + 4 + 4 + 8;
 constexpr std::size_t kPlaceFixedBytes = 4 + 4 + 1 + 9 * 4;
 constexpr std::size_t kPoseBytes = 12 * 8;
 constexpr std::size_t kMaxCloudPoints = std::size_t(1) << 20;
-constexpr float kMaxCloudM = 327.67f;  // int16 centimetres
+constexpr float kMaxCloudM = 327.67f;   // int16 centimetres
+constexpr std::uint8_t kUnknown = 255;  // mode or frame of a map saved before version 4
 
 std::string describe(const DatabaseConfig& c) {
   return method_name(c.method) + "/" + fusion_name(c.fusion) + " w_s " +
@@ -127,6 +128,8 @@ void save_database(const Database& db, const std::string& path,
   w.put<std::int32_t>(c.scan_context.sectors);
   w.put<std::int32_t>(c.columns > 0 ? c.columns : signature_columns(c.method));
   w.put<std::uint32_t>(static_cast<std::uint32_t>(c.storage));
+  w.put<std::uint8_t>(c.mode ? static_cast<std::uint8_t>(*c.mode) : kUnknown);
+  w.put<std::uint8_t>(c.frame ? static_cast<std::uint8_t>(*c.frame) : kUnknown);
   w.put<std::uint32_t>(static_cast<std::uint32_t>(db.payload_floats()));
   w.put<std::uint64_t>(db.size());
   std::vector<float> payload(static_cast<std::size_t>(db.payload_floats()));
@@ -216,6 +219,16 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
     if (storage > 1) r.fail("place storage " + std::to_string(storage) + ", expected 0 or 1");
     c.storage = static_cast<PlaceStorage>(storage);
   }
+  if (version >= 4) {
+    const auto mode = r.get<std::uint8_t>("the mode");
+    if (mode > 1 && mode != kUnknown)
+      r.fail("mode " + std::to_string(mode) + ", expected 0 (reference), 1 (default) or 255");
+    if (mode != kUnknown) c.mode = static_cast<Mode>(mode);
+    const auto frame = r.get<std::uint8_t>("the descriptor frame kind");
+    if (frame > 3 && frame != kUnknown)
+      r.fail("descriptor frame kind " + std::to_string(frame) + ", expected 0..3 or 255");
+    if (frame != kUnknown) c.frame = static_cast<DescriptorFrame>(frame);
+  }
   if (expected && !same_parameters(c, *expected)) {
     r.fail("built with " + describe(c) + ", expected " + describe(*expected));
   }
@@ -234,7 +247,7 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
   const auto count = r.get<std::uint64_t>("the place count");
   // The size must fit the count before anything is allocated for it.
   const std::uintmax_t record = kPlaceFixedBytes + std::uintmax_t(floats) * 4;
-  const std::size_t header = kHeaderBytes + (version >= 3 ? 4 : 0);
+  const std::size_t header = kHeaderBytes + (version >= 3 ? 4 : 0) + (version >= 4 ? 2 : 0);
   const std::uintmax_t body = file_size - header;
   if (file_size < header + 4 || count > (body - 4) / record) {
     r.fail("the file is too short for " + std::to_string(count) + " places (truncated?)");

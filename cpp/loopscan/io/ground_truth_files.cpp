@@ -42,6 +42,25 @@ GtFormat parse_gt_format(const std::string& name) {
                               "' (expected 'kitti' or 'robotcar')");
 }
 
+GtFormat detect_gt_format(const std::string& path) {
+  LineReader reader(path);
+  std::string_view line;
+  if (!next_data_line(reader, line)) throw InputError(path, 0, "at least one ground-truth line");
+  Tokenizer tokens(line);
+  std::size_t n = 0;
+  for (std::string_view token; tokens.next(token);) ++n;
+  if (n == 12) return GtFormat::Kitti;
+  if (n == 3) return GtFormat::RobotCar;
+  throw InputError(path, reader.line_number(),
+                   "12 numbers a line (KITTI poses) or 3 (RobotCar GPS: northing easting down), "
+                   "got " +
+                       std::to_string(n));
+}
+
+GtFormat gt_format(const std::string& path, const std::string& name) {
+  return name == "auto" ? detect_gt_format(path) : parse_gt_format(name);
+}
+
 std::vector<Eigen::Matrix<double, 3, 4>> read_kitti_poses(const std::string& path) {
   const std::vector<double> v =
       read_fixed_width(path, 12, "12 numbers: 3x4 camera-to-world pose (row-major)");

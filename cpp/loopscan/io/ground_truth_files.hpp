@@ -13,6 +13,12 @@ enum class GtFormat { Kitti, RobotCar };
 // "kitti" or "robotcar" (case-insensitive); anything else throws std::invalid_argument.
 GtFormat parse_gt_format(const std::string& name);
 
+// The format of a ground-truth file from its first line: 12 numbers a line are KITTI poses, 3 are
+// RobotCar positions (northing easting down); anything else is an InputError naming the line.
+GtFormat detect_gt_format(const std::string& path);
+// parse_gt_format, or detect_gt_format(path) for "auto".
+GtFormat gt_format(const std::string& path, const std::string& name);
+
 // KITTI odometry ground truth: 12 finite numbers a line, the 3x4 camera-to-world pose row-major;
 // the 0-based line index is the frame id. Blank lines only at the end.
 std::vector<Eigen::Matrix<double, 3, 4>> read_kitti_poses(const std::string& path);

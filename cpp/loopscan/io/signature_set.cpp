@@ -63,7 +63,7 @@ SignatureSet load_signature_set(const std::string& path, Method method,
 
 std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
                                           const std::string& gt_path, const std::string& format) {
-  const std::vector<Eigen::Vector3d> all = read_positions(gt_path, parse_gt_format(format));
+  const std::vector<Eigen::Vector3d> all = read_positions(gt_path, gt_format(gt_path, format));
   std::vector<Eigen::Vector3d> out;
   for (int id : keyframe_ids) {
     if (id < 0 || static_cast<std::size_t>(id) >= all.size()) {
@@ -78,7 +78,7 @@ std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
 
 void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format) {
   set.positions = positions_of(set.keyframe_ids, gt_path, format);
-  const std::vector<Eigen::Vector3d> all = read_headings(gt_path, parse_gt_format(format));
+  const std::vector<Eigen::Vector3d> all = read_headings(gt_path, gt_format(gt_path, format));
   set.headings.clear();
   for (int id : set.keyframe_ids) set.headings.push_back(all[static_cast<std::size_t>(id)]);
 }

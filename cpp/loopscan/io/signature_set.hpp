@@ -23,12 +23,15 @@ struct SignatureSet {
 SignatureSet load_signature_set(const std::string& path, Method method,
                                 const std::string& ids_path = "");
 
-// Ground-truth positions of keyframe ids from a KITTI pose / RobotCar GPS file (line = id).
+// Ground-truth positions of keyframe ids from a KITTI pose / RobotCar GPS file (line = id);
+// `format`: kitti, robotcar or auto (io::detect_gt_format).
 std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
-                                          const std::string& gt_path, const std::string& format);
+                                          const std::string& gt_path,
+                                          const std::string& format = "auto");
 
 // Positions and headings of the places from a KITTI pose / RobotCar GPS file, indexed by keyframe
 // id.
-void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format);
+void attach_positions(SignatureSet& set, const std::string& gt_path,
+                      const std::string& format = "auto");
 
 }  // namespace loopscan::io

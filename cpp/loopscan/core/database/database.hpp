@@ -41,11 +41,17 @@ struct DatabaseConfig {
   // SC and M2DP: fused as in the paper, or one half alone. Ignored for DELIGHT.
   Fusion fusion = Fusion::Fused;
   double structure_weight = 2.0;  // w_s
-  // Rings and sectors of the Scan Context signatures (sectors must be even).
+  // Rings and sectors of the Scan Context signatures (sectors must be even); its other fields
+  // are not used here.
   ScanContextConfig scan_context;
   // Columns of an M2DP or DELIGHT signature; 0: the default parameters' width.
   int columns = 0;
   PlaceStorage storage = PlaceStorage::Full;
+  // How the places were described: the mode and the descriptor's frame. A map records them, so
+  // that its queries and later sessions are described the same way; unknown (nullopt) for maps
+  // saved before the database file recorded them.
+  std::optional<Mode> mode;
+  std::optional<DescriptorFrame> frame;
 };
 
 enum class Retrieval { Exact, Indexed };

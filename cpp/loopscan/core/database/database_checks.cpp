@@ -30,6 +30,20 @@ void validate(const DatabaseConfig& c) {
        "compact storage is for Scan Context places (M2DP and DELIGHT places are already small)");
 }
 
+void require_same_description(const DatabaseConfig& map, const DatabaseConfig& own,
+                              const char* who) {
+  need(map.method == own.method, who,
+       "the map holds " + method_name(map.method) + " places, this describes with " +
+           method_name(own.method));
+  need(!map.mode || !own.mode || *map.mode == *own.mode, who,
+       "the map's places were described in " + (map.mode ? mode_name(*map.mode) : "") +
+           " mode, this describes in " + (own.mode ? mode_name(*own.mode) : "") + " mode");
+  need(!map.frame || !own.frame || *map.frame == *own.frame, who,
+       "the map's places were described in the " +
+           (map.frame ? descriptor_frame_name(*map.frame) : "") + " frame, this describes in the " +
+           (own.frame ? descriptor_frame_name(*own.frame) : "") + " frame");
+}
+
 void validate(const QueryOptions& o, int k) {
   const char* who = "Database::query";
   need(k >= 0 && k <= 1000000, who, "k must be in [0, 1000000] (got " + std::to_string(k) + ")");

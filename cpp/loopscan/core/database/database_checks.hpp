@@ -16,6 +16,12 @@ void validate(const DatabaseConfig& config);
 // distinct_gap >= 0, threads in [1, 1024].
 void validate(const QueryOptions& options, int k);
 
+// Throws std::invalid_argument when the places of `map` were described otherwise than `own`
+// describes (the method; the mode and the descriptor frame where the map records them), naming
+// both. `who` starts the message.
+void require_same_description(const DatabaseConfig& map, const DatabaseConfig& own,
+                              const char* who);
+
 // Every value finite and within +-1e30 (signatures, payloads); every frame and pose entry
 // finite. `who` starts the message.
 void require_finite_values(const float* values, std::size_t n, const char* who);

@@ -20,6 +20,19 @@ DescriptorConfig DescriptorConfig::for_mode(Mode mode, double range_m) {
   return c;
 }
 
+DescriptorFrame descriptor_frame(Method method, const DescriptorConfig& config) {
+  switch (method) {
+    case Method::ScanContext:
+      return config.scan_context.mode == Mode::Reference ? DescriptorFrame::Pca
+                                                         : config.scan_context.frame;
+    case Method::M2dp:
+      return config.m2dp.mode == Mode::Reference ? DescriptorFrame::Pca : config.m2dp.frame;
+    case Method::Delight:
+      break;
+  }
+  return config.delight.mode == Mode::Reference ? DescriptorFrame::Pca : config.delight.frame;
+}
+
 Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config,
                    Eigen::Matrix3d* frame) {
   if (frame) frame->setIdentity();

@@ -17,6 +17,10 @@ struct DescriptorConfig {
   static DescriptorConfig for_mode(Mode mode, double range_m = 45.0);
 };
 
+// The frame `method`'s descriptor is computed in under `config` (reference mode: always the
+// paper's PCA frame).
+DescriptorFrame descriptor_frame(Method method, const DescriptorConfig& config);
+
 // Signature of one imitated (filtered, camera-frame) scan. `frame` (optional) receives the
 // descriptor's axes in the camera frame for Scan Context (PCA basis, rows = axes), the
 // identity for the others; the database turns sector shifts into yaw with it. Throws

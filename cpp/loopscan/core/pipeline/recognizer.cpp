@@ -1,5 +1,6 @@
 #include "loopscan/core/pipeline/recognizer.hpp"
 
+#include "loopscan/core/database/database_checks.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 
 #include <cmath>
@@ -19,11 +20,20 @@ RecognizerConfig RecognizerConfig::make(Method method, Mode mode, double range_m
   return c;
 }
 
+DatabaseConfig map_config(const RecognizerConfig& config) {
+  DatabaseConfig d = config.database;
+  d.method = config.method;
+  d.mode = config.imitation.mode;
+  d.frame = descriptor_frame(config.method, config.descriptors);
+  return d;
+}
+
 Recognizer::Recognizer(const RecognizerConfig& config)
-    : Recognizer(config, Database(config.database)) {}
+    : Recognizer(config, Database(map_config(config))) {}
 
 Recognizer::Recognizer(const RecognizerConfig& config, Database map)
     : config_(config), imitator_(config.imitation), db_(std::move(map)) {
+  require_same_description(db_.config(), map_config(config), "Recognizer");
   if (config.lane_offset_m != 0 &&
       (config.method != Method::ScanContext ||
        config.descriptors.scan_context.frame != DescriptorFrame::Camera ||

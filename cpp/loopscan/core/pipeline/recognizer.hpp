@@ -28,6 +28,10 @@ struct RecognizerConfig {
   static RecognizerConfig make(Method method, Mode mode = Mode::Default, double range_m = 45.0);
 };
 
+// The database config of the places a recognizer adds: config.database with the mode and the
+// descriptor frame it describes in (what a saved map records).
+DatabaseConfig map_config(const RecognizerConfig& config);
+
 // One place described (and added to the map) and what the map answered before it joined.
 struct KeyframeResult {
   int keyframe = -1;               // the keyframe described (two-sided scans: an earlier one)
@@ -37,7 +41,8 @@ struct KeyframeResult {
 class Recognizer {
  public:
   explicit Recognizer(const RecognizerConfig& config);
-  // Continues an existing map (another session's, e.g. loaded from disk).
+  // Continues an existing map (another session's, e.g. loaded from disk). Throws
+  // std::invalid_argument when its places were described otherwise (method, mode, frame).
   Recognizer(const RecognizerConfig& config, Database map);
 
   // points: those the VO exported with this keyframe (world frame); reset: the VO restarted.
