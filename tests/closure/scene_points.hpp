@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "loopscan/closure/place_cloud.hpp"
+#include "loopscan/closure/voxel_cloud.hpp"
 
 namespace loopscan::test {
 

@@ -1,5 +1,5 @@
 #pragma once
-// Internal helpers shared by the street layout (world_layout*.cpp).
+// Internal helpers of the street layout (world_layout.cpp), shared with world_cars.cpp.
 #include <cstdint>
 #include <random>
 #include <unordered_map>

@@ -1,4 +1,4 @@
-// The Scan Context index keys (scan_context_keys.hpp) against their straightforward definitions,
+// The Scan Context index keys (scan_context_store.hpp) against their straightforward definitions,
 // at every SIMD width the machine has (LOOPSCAN_NO_AVX2=1 for the baseline).
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "loopscan/core/database/key_scan.hpp"
-#include "loopscan/core/database/scan_context_keys.hpp"
+#include "loopscan/core/database/scan_context_store.hpp"
 
 namespace loopscan {
 namespace {

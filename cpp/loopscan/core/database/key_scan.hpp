@@ -1,7 +1,7 @@
 #pragma once
 // k-nearest search over short keys of 13-bit integers (one per place) for several query keys
 // at once (a Scan Context query and its lateral versions), by scanning keys kept in blocks of
-// 16 places (key_scan_kernels.hpp): a few vector instructions per dimension pair and block,
+// 16 places (key_scan::BlockRef): a few vector instructions per dimension pair and block,
 // exact integer distances, no pointer chasing, and a block left as soon as all its places are
 // farther than the current k-th (dimensions are stored by decreasing variance, re-laid out
 // when the count reaches 256, 1024, 4096, ... up to cells_from, then each time it doubles).
@@ -18,7 +18,25 @@
 #include <utility>
 #include <vector>
 
-#include "loopscan/core/database/key_scan_kernels.hpp"
+namespace loopscan::key_scan {
+
+constexpr int kBlock = 16;
+constexpr std::uint16_t kMaxKey = 8191;  // 64 dims of squared 13-bit differences fit a uint32
+
+// Places: blocks of 16 keys of 13-bit integers, stored in dimension pairs ([pair][lane][2]
+// uint16), so one multiply-add of 16-bit lanes squares and sums two dimensions of 16 places.
+struct BlockRef {
+  const std::uint16_t* keys;  // [pair][lane][2]
+  const std::uint32_t* ids;   // [lane]
+  std::uint32_t valid;        // lane mask
+};
+// Cell centres: blocks of float keys ([dim][lane]).
+struct FloatBlockRef {
+  const float* keys;  // [dim][lane]
+  std::uint32_t valid;
+};
+
+}  // namespace loopscan::key_scan
 
 namespace loopscan {
 
@@ -48,7 +66,7 @@ class KeyScan {
   // For each of the n_queries keys (row-major, dims values each): up to `count` places with
   // eligible(i), nearest first by distance(), ties to the smaller index, among the keys
   // scanned (all of them below cells_from). `eligible` is asked only about places within the
-  // current bound (the count-th so far, or the pilot scan's, key_scan_kernels.hpp).
+  // current bound (the count-th so far, or the pilot scan's: scan_nearest in key_scan.cpp).
   void nearest(const std::uint16_t* queries, int n_queries, std::size_t count,
                const std::function<bool(std::size_t)>& eligible,
                std::vector<Neighbours>& out) const;

@@ -1,6 +1,5 @@
 #include "loopscan/core/descriptors/leading_singular.hpp"
 
-#include "loopscan/core/descriptors/power_step.hpp"
 #include "loopscan/core/simd.hpp"
 
 #include <Eigen/SVD>

@@ -23,4 +23,10 @@ SingularPair leading_singular_pair(const Eigen::MatrixXd& a, Mode mode);
 // bits; for tests.
 Eigen::MatrixXd gram_matrix_for_width(const Eigen::MatrixXd& a, int width);
 
+// The power iteration's step (power_step.cpp): out = G u for a column-major n x n matrix G,
+// each entry summed over the columns in order, from +0, with unfused multiply-adds, then added
+// to +0: the bits of Eigen's matrix-vector product `G * u` as compiled for the SSE2 baseline
+// (which pins the signatures), only wider.
+void gram_times(const double* g, int n, const double* u, double* out);
+
 }  // namespace loopscan

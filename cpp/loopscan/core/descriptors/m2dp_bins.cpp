@@ -1,3 +1,4 @@
+// A translation unit apart from m2dp.cpp: built with -fno-math-errno -ffp-contract=off.
 #include "loopscan/core/descriptors/m2dp_bins.hpp"
 
 #include <cmath>

@@ -1,4 +1,5 @@
-#include "loopscan/core/descriptors/power_step.hpp"
+// A translation unit apart from leading_singular.cpp: built with -ffp-contract=off.
+#include "loopscan/core/descriptors/leading_singular.hpp"
 
 #include "loopscan/core/simd.hpp"
 

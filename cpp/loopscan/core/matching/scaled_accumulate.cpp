@@ -1,3 +1,4 @@
+// A translation unit apart from scan_context_spectra.cpp: built with -ffp-contract=off.
 #include "loopscan/core/matching/scaled_accumulate.hpp"
 
 #include "loopscan/core/simd.hpp"

@@ -1,7 +1,7 @@
 #pragma once
-// The index keys of Scan Context places (scan_context_store.cpp): the spectral key (uint16, per
-// ring of both halves the DC term and the magnitudes of the lowest harmonics, ring key first)
-// and the coarse key KeyScan searches, taken from it.
+// The index keys of the Scan Context store (scan_context_store.cpp): the spectral key (uint16,
+// per ring of both halves the DC term and the magnitudes of the lowest harmonics, ring key
+// first) and the coarse key KeyScan searches, taken from it.
 #include <cstddef>
 #include <cstdint>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "loopscan/closure/place_cloud.hpp"
+#include "loopscan/closure/voxel_cloud.hpp"
 
 #include <algorithm>
 #include <cmath>
