@@ -1,4 +1,4 @@
-"""loopscan_bench's JSON as per-stage milliseconds, shared by scripts/readme-speed and
+"""loopscan_bench's JSON as per-stage milliseconds, shared by scripts/docs-speed and
 scripts/bench-authors so both tables read the same benchmarks under the same labels."""
 import json
 import re

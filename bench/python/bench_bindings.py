@@ -8,7 +8,7 @@
   and the same 880 query signatures (the CLI times the C++ query call alone).
 
     PYTHONPATH=build/python python3 bench/python/bench_bindings.py [--places 100000] [--reps 5]
-        [--readme]   (also writes the table into README.md, block python-bench)
+        [--write-docs]   (also writes the table into docs/performance.md, block python-bench)
 Needs `cmake --build build --target benchmarks loopscan` and the fixture (LOOPSCAN_SHARED).
 Prints medians and the ratios Python / C++.
 """
@@ -57,7 +57,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--places", type=int, default=100_000)
     parser.add_argument("--reps", type=int, default=5)
-    parser.add_argument("--readme", action="store_true", help="write the table into README.md")
+    parser.add_argument("--write-docs", action="store_true",
+                        help="write the table into docs/performance.md (block python-bench)")
     args = parser.parse_args()
     poses = loopscan.read_sodso_poses(str(K06 / "poses_history_file.txt"))
     points = loopscan.read_sodso_points(str(K06 / "pts_history_file.txt.gz"))
@@ -101,9 +102,9 @@ def main():
              f"| Database.query indexed, {args.places} places, per query | {pq:.3f} | {cq:.3f} | "
              f"{pq / cq:.3f} |\n")
     print(table, end="")
-    if args.readme:
-        subprocess.run([str(REPO / "scripts/replace-readme-block"), "python-bench"],
-                       input=table, text=True, check=True)
+    if args.write_docs:
+        subprocess.run([str(REPO / "scripts/replace-doc-block"), "python-bench",
+                        str(REPO / "docs/performance.md")], input=table, text=True, check=True)
 
 if __name__ == "__main__":
     main()

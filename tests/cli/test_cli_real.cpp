@@ -33,7 +33,7 @@ TEST(CliReal, VoOnRealKittiFramesStaysWithinOnePercent) {
       " --out " + (dir / "vo").string());
   ASSERT_EQ(r.code, 0) << r.output;
   const nlohmann::json m = json_of(dir / "vo" / "vo.json")["metrics"];
-  // Measured 0.77 % and 1.76 deg/100 m over 14 segments, ATE 0.04 m (README).
+  // Measured 0.77 % and 1.76 deg/100 m over 14 segments, ATE 0.04 m (docs/vo.md).
   EXPECT_GE(m["segments"].get<int>(), 10);
   EXPECT_LE(m["translation_percent"].get<double>(), 1.0);
   EXPECT_LE(m["ate_rmse_m"].get<double>(), 0.1);

@@ -29,7 +29,7 @@ struct KeyframePose {
 };
 
 // `Reference` reproduces the authors' implementation including its defects;
-// `Default` fixes them (see README, "Reference vs default").
+// `Default` fixes them (see docs/reference-vs-default.md).
 enum class Mode { Reference, Default };
 
 enum class Method { ScanContext, M2dp, Delight };

@@ -55,7 +55,7 @@ namespace {
 // The gray of the surface beside an edge pixel: 2 px along the gradient, on the side where the
 // gradient is weaker. The edge pixel's own gray is a mix of both sides that changes with the
 // edge's sub-pixel position from one visit to the next; on the rendered city this lifts
-// DELIGHT's AUC from 0.55 to 0.80 (README, "Stereo VO").
+// DELIGHT's AUC from 0.55 to 0.80 (docs/experiments/vo-city.md).
 float surface_gray(const cv::Mat& image, const std::vector<float>& magnitude, int x, int y) {
   const int w = image.cols, h = image.rows;
   const float gx = 0.5f * (static_cast<float>(image.at<std::uint8_t>(y, x + 1)) -

@@ -134,7 +134,7 @@ TEST(DatabaseSim, OnlineQueriesReproduceTheOfflineEvaluation) {
     // best) moves the offline mean: measured 0.509 offline, 0.471 exact, 0.414 indexed.
     EXPECT_NEAR(auc_exact, auc_offline, cross ? 0.02 : 0.05);
     EXPECT_NEAR(auc_indexed, auc_offline, cross ? 0.02 : 0.12);
-    // Regression guards below the measured level (README): across seasons 100 %; within a
+    // Regression guards below the measured level (docs/database.md): across seasons 100 %; within a
     // season most queries have no true revisit and their exact best place is arbitrary
     // (72 %; 57 % with the earlier 10-D ring-key tree).
     EXPECT_GE(agreement(a, b), cross ? 0.97 : 0.65);
@@ -158,7 +158,7 @@ TEST(DatabaseSim, StreamingRunMatchesTheCausalOfflineEvaluation) {
       eval::evaluate_matches(b.matches, s.positions(), s.positions(), causal).auc;
   std::printf("streaming: exact AUC %.4f, indexed %.4f, top-1 agreement %.4f\n", auc_exact,
               auc_indexed, agreement(a, b));
-  // Measured: 0.478 vs 0.406, agreement 0.80 (README: the indexed search misses more true
+  // Measured: 0.478 vs 0.406, agreement 0.80 (docs/database.md: the indexed search misses more true
   // places when the lateral versions bring reverse drives into reach); guards against
   // regressions.
   EXPECT_NEAR(auc_indexed, auc_exact, 0.1);

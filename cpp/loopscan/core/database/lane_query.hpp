@@ -1,10 +1,10 @@
 #pragma once
 // Recognising a street driven the other way, in the other lane. A Scan Context described at
-// the keyframe does not match the reverse drive 3.5 m to the side (README, "Direction, lane and
-// season"); the same scan described from where a car in the neighbouring lane would be
-// (ScanContextConfig::lateral_offset_m, camera frame) does. Those lane versions are queried too,
-// and their candidates count only when the place is seen the other way round: yaw within a
-// window of 180 degrees, unmirrored.
+// the keyframe does not match the reverse drive 3.5 m to the side
+// (docs/experiments/direction-lane-season.md); the same scan described from where a car in the
+// neighbouring lane would be (ScanContextConfig::lateral_offset_m, camera frame) does. Those
+// lane versions are queried too, and their candidates count only when the place is seen the
+// other way round: yaw within a window of 180 degrees, unmirrored.
 #include <vector>
 
 #include "loopscan/core/database/database.hpp"

@@ -11,7 +11,7 @@
 // as bytes (compact_spectra.hpp) and expanded before scoring.
 // On the simulated city the ring key alone put the exact best place among 50 candidates for
 // ~40% of same-season queries and ~89% across seasons; the two stages with the earlier 10-D
-// tree key reached ~65% and ~99% (README, "Place database").
+// tree key reached ~65% and ~99% (docs/database.md).
 #include "loopscan/core/database/scan_context_store.hpp"
 
 #include <algorithm>

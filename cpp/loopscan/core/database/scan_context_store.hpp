@@ -18,7 +18,7 @@ std::uint64_t spectral_key_distance(const std::uint16_t* a, const std::uint16_t*
 // intensity counterpart) in steps of 8 / 8192 (13 bits, KeyScan's range); more rings than
 // KeyScan::kMaxDims / 2 are averaged in consecutive groups. Summing rings in pairs (a 10-D key,
 // for a KD-tree) lost the exact best place among near-identical ones; the intensity terms
-// separate places across seasons (README, "Place database").
+// separate places across seasons (docs/database.md).
 int coarse_key_dims(int rings);
 std::vector<std::uint16_t> coarse_key(const std::vector<std::uint16_t>& spectral_key, int rings);
 

@@ -13,7 +13,7 @@ DescriptorConfig DescriptorConfig::for_mode(Mode mode, double range_m) {
   if (mode == Mode::Default) {
     // Scan Context keyframe-centred (the camera's up, yaw left to the sector search) with
     // lateral versions: a revisit a metre aside, or one lane over the other way round, matches
-    // (README, "Direction, lane and season": every sequence we measured gains).
+    // (docs/experiments/direction-lane-season.md: every sequence we measured gains).
     c.scan_context.frame = DescriptorFrame::Camera;
     c.scan_context.lateral_versions_m = kDefaultLateralVersions;
   }
