@@ -98,6 +98,17 @@ TEST(CliConfig, BadFilesAreRefusedNamingFileLineAndKey) {
     EXPECT_NE(r.output.find(expected), std::string::npos) << yaml << "\n" << r.output;
     EXPECT_FALSE(fs::exists(d / "o"));
   }
+  // Loop closing takes forward-only scans: a two-sided file is refused before any work.
+  const CliResult closing =
+      run("close --poses " + (d / "poses.txt").string() + " --points " + (d / "pts.txt").string() +
+          config(d, "two_sided", "imitation:\n  lookahead_m: 20\n") + " --out " +
+          (d / "c").string());
+  EXPECT_EQ(closing.code, 2);
+  EXPECT_NE(closing.output.find("two_sided.yaml:2: expected a configuration for loop closing: "
+                                "imitation.lookahead_m"),
+            std::string::npos)
+      << closing.output;
+  EXPECT_FALSE(fs::exists(d / "c"));
   // The file's method or mode against a flag: both named.
   const CliResult r = run(describe(d, "m2dp", config(d, "m", "method: sc\n"), d / "o"));
   EXPECT_EQ(r.code, 2);

@@ -1,13 +1,12 @@
 #include "cli/configuration.hpp"
 
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
-#include "cli/guidance.hpp"
+#include "cli/options.hpp"
 #include "loopscan/io/errors.hpp"
 
 namespace loopscan::cli {
@@ -127,14 +126,7 @@ Configuration resolve_configuration(const ConfigFlags& flags,
   }
   std::string method = agreed("method", methods);
   if (method.empty()) method = fallback_method;
-  const std::vector<std::string> names = {"sc", "m2dp", "delight", "gist", "bow"};
-  if (std::find(names.begin(), names.end(), method) == names.end()) {
-    std::string message =
-        "unknown method '" + method + "' (expected sc, m2dp, delight, gist or bow";
-    const std::string guess = closest(method, names);
-    if (!guess.empty()) message += "; did you mean '" + guess + "'?";
-    throw std::invalid_argument(message + ")");
-  }
+  if (method != "gist" && method != "bow") parse_method_or_image(method);  // names a typo
   std::string mode_text = agreed("mode", modes);
   const Mode mode = mode_text.empty() ? Mode::Default : parse_mode(mode_text);
   described_frame(described);  // described sets in different frames do not compare
@@ -145,6 +137,18 @@ Configuration resolve_configuration(const ConfigFlags& flags,
   c = Configuration::defaults(c.method, mode);
   c.image_baseline = image;
   return c;
+}
+
+void require_loop_closing(const Configuration& c, const ConfigFlags& flags) {
+  try {
+    validate_loop_closing(c);
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    const std::string key = message.substr(0, message.find(':'));
+    if (flags.file.empty() || key_line(flags.file, key) == 0) throw;
+    throw io::InputError(flags.file, key_line(flags.file, key),
+                         "a configuration for loop closing: " + message);
+  }
 }
 
 void write_used_configuration(const std::string& dir, const Configuration& c, bool with_method) {

@@ -46,6 +46,9 @@ Configuration resolve_configuration(const ConfigFlags& flags,
                                     const std::vector<Described>& described = {},
                                     const std::string& fallback_method = "sc");
 
+// validate_loop_closing, its complaint naming the --config file and line when the file set the key.
+void require_loop_closing(const Configuration& c, const ConfigFlags& flags);
+
 // The frame the described sets agree on (nullopt when none says).
 std::optional<DescriptorFrame> described_frame(const std::vector<Described>& described);
 

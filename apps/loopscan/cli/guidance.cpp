@@ -2,23 +2,10 @@
 
 #include <algorithm>
 
+#include "loopscan/io/errors.hpp"
+
 namespace loopscan::cli {
 namespace {
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
 
 // Lists of values also split at commas, unless the option chose its own delimiter (free text
 // such as legend names, which may contain commas).
@@ -31,19 +18,6 @@ void comma_lists(CLI::App* app) {
 
 }  // namespace
 
-std::string closest(const std::string& word, const std::vector<std::string>& candidates) {
-  std::string best;
-  std::size_t best_distance = std::max<std::size_t>(2, word.size() / 3) + 1;
-  for (const std::string& c : candidates) {
-    const std::size_t d = edit_distance(word, c);
-    if (d < best_distance || (c.rfind(word, 0) == 0 && word.size() >= 3 && best.empty())) {
-      best_distance = std::min(d, best_distance);
-      best = c;
-    }
-  }
-  return best;
-}
-
 void accept_comma_lists(CLI::App& app) { comma_lists(&app); }
 
 std::string unknown_command(const CLI::App& app, int argc, char** argv) {
@@ -55,7 +29,7 @@ std::string unknown_command(const CLI::App& app, int argc, char** argv) {
     names.push_back(sub->get_name());
   }
   std::string message = "unknown command '" + word + "'";
-  const std::string guess = closest(word, names);
+  const std::string guess = io::closest_name(word, names);
   if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
   message += "; commands:";
   for (const std::string& n : names) message += " " + n;
@@ -77,7 +51,7 @@ std::string suggest_option(const CLI::App& app) {
   }
   for (const std::string& word : unexpected) {
     if (word.rfind("--", 0) != 0) continue;
-    const std::string guess = closest(word.substr(0, word.find('=')), names);
+    const std::string guess = io::closest_name(word.substr(0, word.find('=')), names);
     if (!guess.empty()) return "unknown option " + word + " (did you mean " + guess + "?)";
   }
   return "";

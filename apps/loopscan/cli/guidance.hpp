@@ -8,10 +8,6 @@
 
 namespace loopscan::cli {
 
-// The candidate nearest to `word` by edit distance, or "" when none is close (more than a third
-// of the word's letters, at least 2, would have to change).
-std::string closest(const std::string& word, const std::vector<std::string>& candidates);
-
 // Every option of `app` and its subcommands that takes several values also accepts them
 // comma-separated (`--methods sc,m2dp` as well as `--methods sc m2dp`).
 void accept_comma_lists(CLI::App& app);

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/guidance.hpp"
+#include "loopscan/io/errors.hpp"
 #include "loopscan/core/signature.hpp"
 #include "loopscan/core/types.hpp"
 
@@ -21,7 +22,7 @@ inline Method parse_method_or_image(const std::string& name) {
     return parse_method(name);
   } catch (const std::invalid_argument&) {
     std::string message = "unknown method '" + name + "' (expected sc, m2dp, delight, gist or bow";
-    const std::string guess = closest(name, {"sc", "m2dp", "delight", "gist", "bow"});
+    const std::string guess = io::closest_name(name, {"sc", "m2dp", "delight", "gist", "bow"});
     if (!guess.empty()) message += "; did you mean '" + guess + "'?";
     throw std::invalid_argument(message + ")");
   }

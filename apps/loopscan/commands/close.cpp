@@ -39,7 +39,7 @@ void run_close(const CloseArgs& a) {
     described.push_back(described_map(a.map, map->places.config()));
   }
   const Configuration c = resolve_configuration(a.config, described);
-  if (c.image_baseline) throw std::invalid_argument("--method: loops close with sc, m2dp or delight");
+  require_loop_closing(c, a.config);
   closure::LoopCloserConfig config = loop_closer_config(c);
   if (map) {
     const DatabaseConfig& saved = map->places.config();
@@ -95,7 +95,8 @@ void add_close_command(CLI::App& app) {
   cmd->add_option("--poses", a->poses, "SO-DSO poses_history_file.txt")->required();
   cmd->add_option("--points", a->points, "SO-DSO pts_history_file.txt (or .gz)")->required();
   cmd->add_option("--out", a->out, "output directory")->required();
-  cmd->add_option("--reset-ids", a->reset_ids, "file of keyframe ids where the VO reset");
+  cmd->add_option("--reset-ids", a->reset_ids,
+                  "file of keyframe ids where the VO reset (without it, default mode detects them)");
   cmd->add_option("--gt", a->gt, "ground truth (one line per frame id) for the metrics");
   cmd->add_option("--map", a->map,
                   "a saved map (another session's map.db): localise in it and extend it");

@@ -41,6 +41,7 @@ void add_config_command(CLI::App& app) {
       "config", "Print every tuning parameter with its default (the YAML --config takes)");
   cmd->add_option("--method", a->config.method, "sc | m2dp | delight | gist | bow (default: sc)");
   add_mode_option(*cmd, a->config);
+  cmd->get_option("--mode")->description("default | reference (default: the file's, else default)");
   add_config_option(*cmd, a->config);
   cmd->get_option("--config")->description("a configuration file to apply first (to check it)");
   cmd->add_option("--out", a->out, "write the YAML to this file instead of standard output");

@@ -56,6 +56,7 @@ void run_all(const RunArgs& a) {
   Configuration c = resolve_configuration(a.config);
   c.method = Method::ScanContext;
   c.image_baseline.reset();
+  require_loop_closing(c, a.config);
   const Mode mode = c.mode;
   for (const std::string& name : a.methods) {  // before the VO runs
     if (!is_image_method(name)) parse_method_or_image(name);

@@ -51,7 +51,7 @@ void add_slam_command(CLI::App& app) {
     SlamArgs args = *a;
     refuse_inputs_inside(*cmd, args.vo.out);
     const Configuration c = resolve_configuration(args.config);  // before the VO runs
-    if (c.image_baseline) throw std::invalid_argument("--method: loops close with sc, m2dp or delight");
+    require_loop_closing(c, args.config);
     with_output_dir(args.vo.out, [&] { run_slam(args, c); });
   });
 }

@@ -125,6 +125,7 @@ void run_demo(const DemoArgs& a) {
   Configuration c = resolve_configuration(a.config);
   c.method = Method::ScanContext;
   c.image_baseline.reset();
+  require_loop_closing(c, a.config);
   // One numbered line per step; each part then ends with its own time (progress.hpp).
   constexpr Method kMethods[] = {Method::ScanContext, Method::M2dp, Method::Delight};
   // Steps: world, the two drives, one per method, loop closing, report.

@@ -30,8 +30,8 @@ LoopCloserConfig LoopCloserConfig::make(Method method, Mode mode, double range_m
 void validate(const LoopCloserConfig& c) {
   if (c.recognition.imitation.lookahead_m > 0 && c.recognition.imitation.mode == Mode::Default) {
     throw std::invalid_argument(
-        "LoopCloserConfig: two-sided scans (imitation.lookahead_m > 0) are not supported by the "
-        "loop closer yet; use forward-only scans (lookahead_m = 0)");
+        "LoopCloserConfig: the loop closer takes forward-only scans (imitation.lookahead_m = 0): "
+        "it verifies each keyframe and adds it to the graph as the keyframe arrives");
   }
   validate(c.cloud);
   validate(c.verify);

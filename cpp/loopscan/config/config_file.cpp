@@ -171,30 +171,6 @@ class Writer {
 
 std::size_t line_of(const YAML::Node& n) { return static_cast<std::size_t>(n.Mark().line) + 1; }
 
-std::string edit_closest(const std::string& word, const std::vector<std::string>& names) {
-  std::string best;
-  std::size_t best_d = std::max<std::size_t>(2, word.size() / 3) + 1;
-  for (const std::string& n : names) {
-    std::vector<std::size_t> row(n.size() + 1);
-    for (std::size_t j = 0; j <= n.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= word.size(); ++i) {
-      std::size_t diagonal = row[0];
-      row[0] = i;
-      for (std::size_t j = 1; j <= n.size(); ++j) {
-        const std::size_t up = row[j];
-        row[j] =
-            std::min({row[j] + 1, row[j - 1] + 1, diagonal + (word[i - 1] == n[j - 1] ? 0 : 1)});
-        diagonal = up;
-      }
-    }
-    if (row[n.size()] < best_d) {
-      best_d = row[n.size()];
-      best = n;
-    }
-  }
-  return best;
-}
-
 class Reader {
  public:
   Reader(std::string path, const YAML::Node& root) : path_(std::move(path)) {
@@ -354,7 +330,7 @@ class Reader {
       for (std::size_t i = 0; i < level.known.size(); ++i)
         expected += (i ? ", " : "") + level.known[i];
       expected += "), got '" + name + "'";
-      const std::string guess = edit_closest(name, level.known);
+      const std::string guess = io::closest_name(name, level.known);
       if (!guess.empty()) expected += " (did you mean '" + guess + "'?)";
       throw io::InputError(path_, line_of(kv.first), expected);
     }
@@ -516,6 +492,10 @@ Configuration load_configuration(const std::string& path, const std::string& met
     throw io::InputError(path, line_of_key(root, key), "a consistent configuration: " + message);
   }
   return c;
+}
+
+std::size_t key_line(const std::string& path, const std::string& dotted_key) {
+  return line_of_key(parse_file(path), dotted_key);
 }
 
 std::string configuration_yaml(const Configuration& c, const std::string& header,

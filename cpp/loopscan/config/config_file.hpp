@@ -26,6 +26,10 @@ FileChoice read_file_choice(const std::string& path);
 // `method`: sc | m2dp | delight | gist | bow.
 Configuration load_configuration(const std::string& path, const std::string& method, Mode mode);
 
+// The line of a dotted key ("closure.candidates") in the file; of its deepest section the file
+// has when the file does not set the key itself; 0 when it has none of them.
+std::size_t key_line(const std::string& path, const std::string& dotted_key);
+
 // Every key with its value and description; `header` (comment lines without '#') goes first.
 // Without `with_method` the file leaves the method out (what run and demo used: every method).
 std::string configuration_yaml(const Configuration& c, const std::string& header = "",

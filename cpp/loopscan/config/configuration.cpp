@@ -152,6 +152,12 @@ sim::Conditions simulated_conditions(const Configuration& c, sim::Season season)
   return conditions;
 }
 
+void validate_loop_closing(const Configuration& c) {
+  need(!c.image_baseline, "method", "loops close with sc, m2dp or delight");
+  need(c.imitation.lookahead_m == 0, "imitation.lookahead_m",
+       "the loop closer takes forward-only scans (0): it verifies each keyframe as it arrives");
+}
+
 void validate(const Configuration& c) {
   if (c.mode == Mode::Reference) {
     // The paper's scan and frame; the file cannot ask reference mode for something else.

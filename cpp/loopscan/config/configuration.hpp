@@ -108,6 +108,10 @@ void parse_method_name(const std::string& name, Method& method,
 // scan in the PCA frame, one descriptor per place).
 void validate(const Configuration& c);
 
+// What loop closing needs beyond validate(): forward-only scans of a LiDAR-style method. Throws
+// std::invalid_argument naming the key.
+void validate_loop_closing(const Configuration& c);
+
 // What each stage takes. `method` defaults to c.method (run and demo describe with every one).
 SequenceOptions sequence_options(const Configuration& c);
 SequenceOptions sequence_options(const Configuration& c, Method method);

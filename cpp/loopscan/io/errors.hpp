@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace loopscan::io {
 
@@ -26,5 +27,9 @@ class InputError : public std::runtime_error {
   std::size_t line_;
   std::string what_expected_;
 };
+
+// For "did you mean" in messages: the name nearest to `word` by edit distance, or "" when none is
+// close (more than a third of the word's letters, at least 2, would have to change).
+std::string closest_name(const std::string& word, const std::vector<std::string>& names);
 
 }  // namespace loopscan::io
