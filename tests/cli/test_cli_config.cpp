@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <regex>
 
 #include "cli/cli_support.hpp"
 #include "support/test_support.hpp"
@@ -266,9 +266,17 @@ TEST(CliConfig, ReferenceSignaturesEvaluatedWithoutModeGiveTheAuthorsMetrics) {
               ref["sc"]["fused"]["recall_at_100_precision"].get<double>(), 1e-4);
 }
 
+// A line of CLI11's help that lists an option: indented, `--name` or `-x,--name` first.
+bool lists_an_option(const std::string& line) {
+  const std::size_t start = line.find_first_not_of(' ');
+  if (start == 0 || start == std::string::npos) return false;
+  std::string rest = line.substr(start);
+  if (rest.size() > 3 && rest[0] == '-' && rest[1] != '-' && rest[2] == ',') rest = rest.substr(3);
+  return rest.size() > 2 && rest.rfind("--", 0) == 0 && std::islower(rest[2]);
+}
+
 // Every command shows at most 12 options besides --help.
 TEST(CliConfig, EveryCommandHasAtMostTwelveOptions) {
-  const std::regex option(R"(^\s+(-[a-zA-Z], )?--[a-z][a-z0-9-]*)");
   for (const char* command :
        {"describe", "evaluate", "pairs", "plot", "simulate", "demo", "render", "vo", "run", "slam",
         "close", "config", "db build", "db query", "vocab train"}) {
@@ -277,7 +285,7 @@ TEST(CliConfig, EveryCommandHasAtMostTwelveOptions) {
     int options = 0;
     std::istringstream lines(r.output);
     for (std::string line; std::getline(lines, line);) {
-      if (std::regex_search(line, option) && line.find("--help") == std::string::npos) ++options;
+      if (lists_an_option(line) && line.find("--help") == std::string::npos) ++options;
     }
     EXPECT_GE(options, 2) << command << "\n" << r.output;
     EXPECT_LE(options, 12) << command << "\n" << r.output;
