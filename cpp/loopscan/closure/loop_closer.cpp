@@ -3,15 +3,43 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <unordered_map>
 
-#include "loopscan/closure/pose_math.hpp"
+#include <Eigen/SVD>
+
 #include "loopscan/core/database/database_checks.hpp"
 #include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/timing.hpp"
 
 namespace loopscan::closure {
-using detail::isometry;
-using detail::orthonormalised;
+namespace {
+
+Eigen::Isometry3d isometry(const Pose3x4& T) {
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = T.leftCols<3>();
+  out.translation() = T.col(3);
+  return out;
+}
+
+// The nearest rotation (SVD): poses written with a few digits, or chained from such, are not
+// quite orthonormal, and a rigid inverse of them misplaces points far from the origin (1e-4
+// of non-orthonormality at 1 km: 0.1 m a pose, compounding along the odometry).
+KeyframePose orthonormalised(KeyframePose k) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(Eigen::Matrix3d(k.T_cam_world.leftCols<3>()),
+                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d R = svd.matrixU() * svd.matrixV().transpose();
+  if (R.determinant() < 0) {
+    Eigen::Matrix3d U = svd.matrixU();
+    U.col(2) *= -1;
+    R = U * svd.matrixV().transpose();
+  }
+  k.T_cam_world.leftCols<3>() = R;
+  return k;
+}
+
+double rotation_angle(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
+
+}  // namespace
 
 LoopCloserConfig LoopCloserConfig::make(Method method, Mode mode, double range_m) {
   LoopCloserConfig c;
@@ -279,6 +307,97 @@ GraphSolve LoopCloser::finish() {
     update_verdicts(none);
   }
   return s;
+}
+
+// Temporal consistency of verified loops.
+// The loop of an earlier keyframe p (to place mp) predicts this one's: T_q_m =
+// T_q_p (odometry) * T_p_mp (its loop) * T_mp_m (the map's odometry).
+bool LoopCloser::consistent(const Verified& earlier, const Loop& loop,
+                            std::size_t place_index) const {
+  const auto map_pose = [&](std::size_t i) { return isometry(*db_.pose(i)).inverse(); };
+  if (!db_.pose(place_index) || !db_.pose(earlier.place_index)) return false;
+  if (db_.place(place_index).session != db_.place(earlier.place_index).session) return false;
+  const Eigen::Isometry3d T_q_p =
+      vo_T_world_cam(loop.query).inverse() * vo_T_world_cam(earlier.loop.query);
+  const Eigen::Isometry3d T_mp_m = map_pose(earlier.place_index).inverse() * map_pose(place_index);
+  const Eigen::Isometry3d predicted = T_q_p * earlier.loop.T_query_match * T_mp_m;
+  const Eigen::Isometry3d diff = predicted.inverse() * loop.T_query_match;
+  return diff.translation().norm() <= config_.consistency.max_translation_m &&
+         rotation_angle(diff.rotation()) <= config_.consistency.max_rotation_deg * M_PI / 180.0;
+}
+
+// Keeps the verified loop among the recent ones; returns the loops this confirms (itself and
+// the earlier ones it agrees with), or nothing while too few agree.
+std::vector<Loop> LoopCloser::confirm(const Loop& loop, std::size_t place_index) {
+  while (!recent_.empty() &&
+         described_ - recent_.front().described_at >= config_.consistency.window) {
+    recent_.pop_front();
+  }
+  std::vector<Verified*> agreeing;
+  for (Verified& v : recent_) {
+    if (consistent(v, loop, place_index)) agreeing.push_back(&v);
+  }
+  recent_.push_back({loop, place_index, described_, false});
+  std::vector<Loop> confirmed;
+  if (int(agreeing.size()) + 1 < config_.consistency.required) return confirmed;
+  agreeing.push_back(&recent_.back());
+  for (Verified* v : agreeing) {
+    if (v->in_graph) continue;
+    v->in_graph = true;
+    confirmed.push_back(v->loop);
+  }
+  return confirmed;
+}
+
+// What the closer hands back: corrected poses, the corrected map, re-expressed points.
+std::vector<KeyframePose> LoopCloser::corrected_poses() const {
+  std::vector<KeyframePose> out;
+  out.reserve(input_poses_.size());
+  for (std::size_t i = 0; i < input_poses_.size(); ++i) {
+    KeyframePose k;
+    k.id = input_poses_[i].id;
+    k.T_cam_world = graph_.pose(graph_node_[i]).inverse().matrix().topRows<3>();
+    out.push_back(k);
+  }
+  return out;
+}
+
+Database LoopCloser::corrected_map() const {
+  Database out(db_.config());
+  std::vector<float> payload(std::size_t(db_.payload_floats()));
+  for (std::size_t i = 0; i < db_.size(); ++i) {
+    const PlaceRef p = db_.place(i);
+    std::optional<Pose3x4> pose = db_.pose(i);
+    if (p.session == config_.recognition.session) {
+      pose = graph_.pose(graph_node_[pose_index_.at(p.keyframe)]).inverse().matrix().topRows<3>();
+    }
+    db_.stored_payload(i, payload.data());
+    out.add_stored(p, payload.data(), db_.frame(i), pose);
+  }
+  return out;
+}
+
+std::vector<IdPoint> reexpress_points(const std::vector<IdPoint>& points,
+                                      const std::vector<KeyframePose>& vo_poses,
+                                      const std::vector<KeyframePose>& corrected) {
+  std::unordered_map<int, Eigen::Isometry3d> correction;  // new T_world_cam * old T_cam_world
+  std::unordered_map<int, const KeyframePose*> old;
+  for (const KeyframePose& k : vo_poses) old[k.id] = &k;
+  for (const KeyframePose& k : corrected) {
+    const auto it = old.find(k.id);
+    if (it == old.end()) continue;
+    correction[k.id] = isometry(k.T_cam_world).inverse() * isometry(it->second->T_cam_world);
+  }
+  std::vector<IdPoint> out;
+  out.reserve(points.size());
+  for (const IdPoint& p : points) {
+    const auto it = correction.find(p.id);
+    if (it == correction.end()) continue;
+    IdPoint q = p;
+    q.p_world = it->second * p.p_world;
+    out.push_back(q);
+  }
+  return out;
 }
 
 }  // namespace loopscan::closure
