@@ -38,10 +38,7 @@ std::vector<Candidate> query(const Database& db, const DoubleArray& signature, i
                              double uniqueness_ratio, int distinct_gap, int threads,
                              const py::object& accept) {
   QueryOptions o;
-  if (retrieval == "exact")
-    o.retrieval = Retrieval::Exact;
-  else if (retrieval != "indexed")
-    throw py::value_error("retrieval: expected 'indexed' or 'exact', got '" + retrieval + "'");
+  o.retrieval = parse_retrieval(retrieval);
   o.candidates = candidates;
   o.index_pool_factor = index_pool_factor;
   o.stats_sample = stats_sample;
@@ -88,15 +85,12 @@ void bind_database(py::module_& m) {
                  c.method = parse_method(method);
                  c.fusion = parse_fusion(fusion);
                  c.structure_weight = structure_weight;
-                 if (storage != "full" && storage != "compact")
-                   throw py::value_error("storage: expected 'full' or 'compact', got '" + storage +
-                                         "'");
-                 c.storage = storage == "compact" ? PlaceStorage::Compact : PlaceStorage::Full;
+                 c.storage = parse_storage(storage);
                  return Database(c);
                }),
            py::arg("method") = "sc", py::arg("fusion") = fusion_name(DatabaseConfig{}.fusion),
            py::arg("structure_weight") = DatabaseConfig{}.structure_weight,
-           py::arg("storage") = "full")
+           py::arg("storage") = storage_name(DatabaseConfig{}.storage))
       .def(
           "add",
           [](Database& db, const DoubleArray& signature, int keyframe, int session,
@@ -112,7 +106,7 @@ void bind_database(py::module_& m) {
           "Adds a place: its signature (rows, values), optional descriptor frame (3, 3) and "
           "world-to-camera pose (3, 4).")
       .def("query", &query, py::arg("signature"), py::arg("k") = 1, py::arg("frame") = py::none(),
-           py::arg("retrieval") = "indexed", py::arg("candidates") = kQuery.candidates,
+           py::arg("retrieval") = retrieval_name(kQuery.retrieval), py::arg("candidates") = kQuery.candidates,
            py::arg("index_pool_factor") = kQuery.index_pool_factor,
            py::arg("stats_sample") = kQuery.stats_sample, py::arg("refine") = kQuery.refine,
            py::arg("exclude_recent") = kQuery.exclude_recent, py::arg("sessions") = kQuery.sessions,

@@ -120,7 +120,6 @@ void run_query(const QueryArgs& a) {
   QueryOptions options = c.database.query;
   if (a.exact) options.retrieval = Retrieval::Exact;
   options.sessions = a.sessions;
-  const bool exact = options.retrieval == Retrieval::Exact;
   const eval::Protocol protocol =
       a.same_session ? c.evaluation.same_session : c.evaluation.cross_session;
 
@@ -164,7 +163,7 @@ void run_query(const QueryArgs& a) {
   io::write_file_atomic(a.out + "/candidates.csv", csv.str());
   const double query_ms = queries.places.empty() ? 0.0 : total_ms / queries.places.size();
   std::printf("%zu queries against %zu places: %.3f ms per query (%s) -> %s/candidates.csv\n",
-              queries.places.size(), db.size(), query_ms, exact ? "exact" : "indexed",
+              queries.places.size(), db.size(), query_ms, retrieval_name(options.retrieval).c_str(),
               shown(a.out).c_str());
   write_used_configuration(a.out, c);
   if (!with_gt) return;
@@ -188,8 +187,8 @@ void run_query(const QueryArgs& a) {
   nlohmann::json metrics = {
       {"method", method_name(db.config().method)},
       {"fusion", fusion_name(db.config().fusion)},
-      {"storage", db.config().storage == PlaceStorage::Compact ? "compact" : "full"},
-      {"retrieval", exact ? "exact" : "indexed"},
+      {"storage", storage_name(db.config().storage)},
+      {"retrieval", retrieval_name(options.retrieval)},
       {"candidates", options.candidates},
       {"protocol", {{"threshold_m", protocol.threshold_m}, {"mask_width", protocol.mask_width}}},
       {"n_database", db.size()},
@@ -198,7 +197,7 @@ void run_query(const QueryArgs& a) {
   metrics["by_direction"] = direction_metrics(eval::split_by_direction(
       pr, queries.positions, db_pos, queries.headings, db_headings, protocol));
   const std::string title =
-      method_name(db.config().method) + " database (" + (exact ? "exact" : "indexed") + ")";
+      method_name(db.config().method) + " database (" + retrieval_name(options.retrieval) + ")";
   write_evaluation(a.out, queries.keyframe_ids, db_ids, pr, metrics, title);
   std::printf("%s: AUC %.4f, recall@100%%P %.4f, F1-max %.4f, %d GT loops\n", title.c_str(), pr.auc,
               pr.recall_at_100_precision, pr.f1_max, pr.n_gt_loops);

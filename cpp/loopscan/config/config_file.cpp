@@ -48,22 +48,14 @@ struct EnumNames<Fusion> {
 template <>
 struct EnumNames<PlaceStorage> {
   static constexpr const char* kChoices = "full or compact";
-  static PlaceStorage parse(const std::string& s) {
-    if (s == "full") return PlaceStorage::Full;
-    if (s == "compact") return PlaceStorage::Compact;
-    throw std::invalid_argument(s);
-  }
-  static std::string name(PlaceStorage s) { return s == PlaceStorage::Full ? "full" : "compact"; }
+  static PlaceStorage parse(const std::string& s) { return parse_storage(s); }
+  static std::string name(PlaceStorage s) { return storage_name(s); }
 };
 template <>
 struct EnumNames<Retrieval> {
   static constexpr const char* kChoices = "indexed or exact";
-  static Retrieval parse(const std::string& s) {
-    if (s == "indexed") return Retrieval::Indexed;
-    if (s == "exact") return Retrieval::Exact;
-    throw std::invalid_argument(s);
-  }
-  static std::string name(Retrieval r) { return r == Retrieval::Indexed ? "indexed" : "exact"; }
+  static Retrieval parse(const std::string& s) { return parse_retrieval(s); }
+  static std::string name(Retrieval r) { return retrieval_name(r); }
 };
 
 // ---------------------------------------------------------------- writing

@@ -65,6 +65,26 @@ std::vector<std::size_t> stats_sample(const Eligible& eligible, std::size_t limi
 
 }  // namespace
 
+PlaceStorage parse_storage(const std::string& name) {
+  if (name == "full") return PlaceStorage::Full;
+  if (name == "compact") return PlaceStorage::Compact;
+  throw std::invalid_argument("storage: expected 'full' or 'compact', got '" + name + "'");
+}
+
+std::string storage_name(PlaceStorage storage) {
+  return storage == PlaceStorage::Compact ? "compact" : "full";
+}
+
+Retrieval parse_retrieval(const std::string& name) {
+  if (name == "indexed") return Retrieval::Indexed;
+  if (name == "exact") return Retrieval::Exact;
+  throw std::invalid_argument("retrieval: expected 'indexed' or 'exact', got '" + name + "'");
+}
+
+std::string retrieval_name(Retrieval retrieval) {
+  return retrieval == Retrieval::Exact ? "exact" : "indexed";
+}
+
 Database::Database(const DatabaseConfig& config)
     : config_(config), store_((validate(config), make_store(config))) {}
 Database::~Database() = default;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "loopscan/core/config.hpp"
@@ -36,6 +37,10 @@ struct PlaceDescriptor {
 // change by the rounding only). M2DP and DELIGHT places are always full.
 enum class PlaceStorage { Full, Compact };
 
+// "full" | "compact"; throws std::invalid_argument otherwise.
+PlaceStorage parse_storage(const std::string& name);
+std::string storage_name(PlaceStorage storage);
+
 struct DatabaseConfig {
   Method method = Method::ScanContext;
   // SC and M2DP: fused as in the paper, or one half alone. Ignored for DELIGHT.
@@ -55,6 +60,10 @@ struct DatabaseConfig {
 };
 
 enum class Retrieval { Exact, Indexed };
+
+// "indexed" | "exact"; throws std::invalid_argument otherwise.
+Retrieval parse_retrieval(const std::string& name);
+std::string retrieval_name(Retrieval retrieval);
 
 struct QueryOptions {
   Retrieval retrieval = Retrieval::Indexed;
