@@ -78,16 +78,15 @@ void bind_database(py::module_& m) {
       .def("__repr__", &candidate_repr);
 
   py::class_<Database>(m, "Database", "Places to query online (exact or indexed search).")
-      .def(py::init(
-               [](const std::string& method, const std::string& fusion, double structure_weight,
-                  const std::string& storage) {
-                 DatabaseConfig c;
-                 c.method = parse_method(method);
-                 c.fusion = parse_fusion(fusion);
-                 c.structure_weight = structure_weight;
-                 c.storage = parse_storage(storage);
-                 return Database(c);
-               }),
+      .def(py::init([](const std::string& method, const std::string& fusion,
+                       double structure_weight, const std::string& storage) {
+             DatabaseConfig c;
+             c.method = parse_method(method);
+             c.fusion = parse_fusion(fusion);
+             c.structure_weight = structure_weight;
+             c.storage = parse_storage(storage);
+             return Database(c);
+           }),
            py::arg("method") = "sc", py::arg("fusion") = fusion_name(DatabaseConfig{}.fusion),
            py::arg("structure_weight") = DatabaseConfig{}.structure_weight,
            py::arg("storage") = storage_name(DatabaseConfig{}.storage))
@@ -106,7 +105,8 @@ void bind_database(py::module_& m) {
           "Adds a place: its signature (rows, values), optional descriptor frame (3, 3) and "
           "world-to-camera pose (3, 4).")
       .def("query", &query, py::arg("signature"), py::arg("k") = 1, py::arg("frame") = py::none(),
-           py::arg("retrieval") = retrieval_name(kQuery.retrieval), py::arg("candidates") = kQuery.candidates,
+           py::arg("retrieval") = retrieval_name(kQuery.retrieval),
+           py::arg("candidates") = kQuery.candidates,
            py::arg("index_pool_factor") = kQuery.index_pool_factor,
            py::arg("stats_sample") = kQuery.stats_sample, py::arg("refine") = kQuery.refine,
            py::arg("exclude_recent") = kQuery.exclude_recent, py::arg("sessions") = kQuery.sessions,
