@@ -151,9 +151,7 @@ TEST_F(ConfigFile, TheDefaultsAreTheLibrarysOwn) {
 TEST_F(ConfigFile, DumpLoadRoundTripIsExact) {
   for (const char* method : {"sc", "m2dp", "delight", "gist", "bow"}) {
     for (Mode mode : {Mode::Default, Mode::Reference}) {
-      Configuration c = Configuration::defaults(Method::ScanContext, mode);
-      parse_method_name(method, c.method, c.image_baseline);
-      if (!c.image_baseline) c = Configuration::defaults(c.method, mode);
+      const Configuration c = Configuration::defaults(method, mode);
       const std::string text = configuration_yaml(c, "a header\nof two lines");
       EXPECT_EQ(text.rfind("# a header\n# of two lines\n", 0), 0u);
       const FileChoice choice = read_file_choice(file(text));
@@ -238,6 +236,13 @@ TEST_F(ConfigFile, EveryEditedKeyIsLoaded) {
   EXPECT_EQ(flipped.evaluation.fusion, Fusion::Structure);
   EXPECT_FALSE(flipped.simulator.illumination_gain.has_value());
   EXPECT_EQ(flipped.simulator.gamma, 0.5);
+  // A misspelt method is named with the closest one.
+  EXPECT_THROW(Configuration::defaults("m2pd", Mode::Default), std::invalid_argument);
+  try {
+    Configuration::defaults("m2pd", Mode::Default);
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("did you mean 'm2dp'?"), std::string::npos) << e.what();
+  }
   // What a file leaves out keeps the defaults of its method and mode.
   const Configuration partial =
       load_configuration(file("closure:\n  candidates: 5\n"), "m2dp", Mode::Reference);

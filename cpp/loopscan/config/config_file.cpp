@@ -22,6 +22,8 @@ namespace {
 
 using config_keys::Range;
 
+constexpr const char* kMethodChoices = "sc, m2dp, delight, gist or bow";
+
 constexpr std::uintmax_t kMaxConfigBytes = 1 << 20;  // every key with comments is ~25 KB
 
 // Names of the enumerated keys' values, both ways.
@@ -163,6 +165,17 @@ class Writer {
 
 std::size_t line_of(const YAML::Node& n) { return static_cast<std::size_t>(n.Mark().line) + 1; }
 
+// The entry `name` of a YAML map (key and value), or nullopt.
+std::optional<std::pair<YAML::Node, YAML::Node>> find_key(const YAML::Node& map,
+                                                          const std::string& name) {
+  if (!map.IsMap()) return std::nullopt;
+  for (const auto& kv : map) {
+    if (kv.first.IsScalar() && kv.first.Scalar() == name)
+      return std::make_pair(kv.first, kv.second);
+  }
+  return std::nullopt;
+}
+
 class Reader {
  public:
   Reader(std::string path, const YAML::Node& root) : path_(std::move(path)) {
@@ -261,7 +274,7 @@ class Reader {
     try {
       parse_method_name(n->Scalar(), c.method, c.image_baseline);
     } catch (const std::invalid_argument&) {
-      fail(*n, dotted(name), "sc, m2dp, delight, gist or bow", n->Scalar());
+      fail(*n, dotted(name), kMethodChoices, n->Scalar());
     }
   }
 
@@ -280,13 +293,10 @@ class Reader {
   }
 
   std::optional<YAML::Node> find(const char* name) {
-    for (const auto& kv : levels_.back().node) {
-      if (kv.first.IsScalar() && kv.first.Scalar() == name) {
-        key_line_ = line_of(kv.first);
-        return kv.second;
-      }
-    }
-    return std::nullopt;
+    const auto entry = find_key(levels_.back().node, name);
+    if (!entry) return std::nullopt;
+    key_line_ = line_of(entry->first);
+    return entry->second;
   }
 
   // The key's value, which must be a scalar, or nullopt when the file leaves it out.
@@ -414,17 +424,10 @@ std::size_t line_of_key(const YAML::Node& root, const std::string& dotted) {
   std::size_t line = 0;
   std::istringstream parts(dotted);
   for (std::string part; std::getline(parts, part, '.');) {
-    if (!node.IsMap()) break;
-    bool found = false;
-    for (const auto& kv : node) {
-      if (kv.first.IsScalar() && kv.first.Scalar() == part) {
-        line = line_of(kv.first);
-        node = kv.second;
-        found = true;
-        break;
-      }
-    }
-    if (!found) break;
+    const auto entry = find_key(node, part);
+    if (!entry) break;
+    line = line_of(entry->first);
+    node = entry->second;
   }
   return line;
 }
@@ -452,10 +455,10 @@ FileChoice read_file_choice(const std::string& path) {
         choice.mode_line = line_of(kv.first);
       }
     } catch (const std::invalid_argument&) {
-      throw io::InputError(path, line_of(kv.second),
-                           std::string(name == "method" ? "sc, m2dp, delight, gist or bow"
-                                                        : EnumNames<Mode>::kChoices) +
-                               " for " + name + ", got '" + value + "'");
+      throw io::InputError(
+          path, line_of(kv.second),
+          std::string(name == "method" ? kMethodChoices : EnumNames<Mode>::kChoices) + " for " +
+              name + ", got '" + value + "'");
     }
   }
   return choice;
@@ -463,11 +466,7 @@ FileChoice read_file_choice(const std::string& path) {
 
 Configuration load_configuration(const std::string& path, const std::string& method, Mode mode) {
   const YAML::Node root = parse_file(path);
-  Configuration c;
-  parse_method_name(method, c.method, c.image_baseline);
-  const std::optional<ImageBaseline> image = c.image_baseline;
-  c = Configuration::defaults(c.method, mode);
-  c.image_baseline = image;
+  Configuration c = Configuration::defaults(method, mode);
   Reader reader(path, root);
   config_keys::visit(reader, c);
   reader.finish();

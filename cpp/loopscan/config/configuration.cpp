@@ -5,6 +5,7 @@
 #include <string>
 
 #include "loopscan/core/database/database_checks.hpp"
+#include "loopscan/io/errors.hpp"
 
 namespace loopscan {
 namespace {
@@ -40,6 +41,14 @@ Configuration Configuration::defaults(Method method, Mode mode) {
   return c;
 }
 
+Configuration Configuration::defaults(const std::string& method, Mode mode) {
+  Configuration named;
+  parse_method_name(method, named.method, named.image_baseline);
+  Configuration c = defaults(named.method, mode);
+  c.image_baseline = named.image_baseline;
+  return c;
+}
+
 std::string method_name(const Configuration& c) {
   if (c.image_baseline) return *c.image_baseline == ImageBaseline::Gist ? "gist" : "bow";
   return method_name(c.method);
@@ -54,8 +63,10 @@ void parse_method_name(const std::string& name, Method& method,
   try {
     method = parse_method(name);
   } catch (const std::invalid_argument&) {
-    throw std::invalid_argument("unknown method '" + name +
-                                "' (expected sc, m2dp, delight, gist or bow)");
+    std::string message = "unknown method '" + name + "' (expected sc, m2dp, delight, gist or bow";
+    const std::string guess = io::closest_name(name, {"sc", "m2dp", "delight", "gist", "bow"});
+    if (!guess.empty()) message += "; did you mean '" + guess + "'?";
+    throw std::invalid_argument(message + ")");
   }
   image_baseline.reset();
 }
@@ -88,28 +99,16 @@ eval::PlaceEvaluationOptions place_evaluation_options(const Configuration& c, bo
   return place_evaluation_options(c, c.method, cross_session);
 }
 
-DescriptorFrame descriptor_frame(const Configuration& c, Method method) {
-  if (c.mode == Mode::Reference) return DescriptorFrame::Pca;
-  switch (method) {
-    case Method::ScanContext:
-      return c.descriptors.scan_context.frame;
-    case Method::M2dp:
-      return c.descriptors.m2dp.frame;
-    case Method::Delight:
-      break;
-  }
-  return c.descriptors.delight.frame;
-}
-
 DatabaseConfig database_config(const Configuration& c) {
+  const DescriptorConfig descriptors = sequence_options(c).descriptors;
   DatabaseConfig d;
   d.method = c.method;
   d.fusion = c.database.fusion;
   d.structure_weight = c.evaluation.structure_weight;
-  d.scan_context = sequence_options(c).descriptors.scan_context;
+  d.scan_context = descriptors.scan_context;
   d.storage = c.database.storage;
   d.mode = c.mode;
-  d.frame = descriptor_frame(c, c.method);
+  d.frame = descriptor_frame(c.method, descriptors);
   return d;
 }
 
@@ -131,9 +130,9 @@ closure::LoopCloserConfig loop_closer_config(const Configuration& c) {
   r.descriptors = s.descriptors;
   r.descriptors.scan_context.frame = own.frame;
   r.descriptors.scan_context.lateral_versions_m = own.lateral_versions_m;
-  Configuration as_described = c;
-  as_described.descriptors.scan_context = r.descriptors.scan_context;
-  r.database = database_config(as_described);
+  r.database = database_config(c);
+  r.database.scan_context = r.descriptors.scan_context;
+  r.database.frame = descriptor_frame(c.method, r.descriptors);  // the closer's own
   r.query = c.database.query;
   r.query.exclude_recent = exclude_recent;
   return l;

@@ -95,10 +95,12 @@ struct Configuration {
 
   // The library's defaults for a method and a mode.
   static Configuration defaults(Method method = Method::ScanContext, Mode mode = Mode::Default);
+  // The same by name: sc | m2dp | delight | gist | bow (parse_method_name).
+  static Configuration defaults(const std::string& method, Mode mode);
 };
 
 // "sc" | "m2dp" | "delight" | "gist" | "bow": the method a configuration (or a described set) is
-// for; parse_method_name throws std::invalid_argument on any other name.
+// for; parse_method_name throws std::invalid_argument on any other name, naming the closest.
 std::string method_name(const Configuration& c);
 void parse_method_name(const std::string& name, Method& method,
                        std::optional<ImageBaseline>& image_baseline);
@@ -124,8 +126,5 @@ closure::LoopCloserConfig loop_closer_config(const Configuration& c);
 baselines::GistConfig gist_config(const Configuration& c);
 // The conditions of a simulated session in `season` (the season's light unless the file sets it).
 sim::Conditions simulated_conditions(const Configuration& c, sim::Season season);
-
-// The frame the method's descriptor is computed in (what a map records of its places).
-DescriptorFrame descriptor_frame(const Configuration& c, Method method);
 
 }  // namespace loopscan
