@@ -204,6 +204,13 @@ TEST(CliConfig, TheModeTravelsWithTheSignatures) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("conflicting modes"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "x"));
+  // A signature file says nothing: --method is needed.
+  r = run("evaluate --signatures " + (d / "ref/signatures.txt").string() + " --ids " +
+          (d / "ref/incoming_id_file.txt").string() + gt + " --out " + (d / "x").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.output.find("--method: no input says which method described it"),
+            std::string::npos)
+      << r.output;
   // Sets written before config.yaml existed: timing.json says it.
   fs::remove(d / "ref/config.yaml");
   r = run("evaluate --signatures " + (d / "ref").string() + gt + " --out " +

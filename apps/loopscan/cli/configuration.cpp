@@ -6,7 +6,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/options.hpp"
 #include "loopscan/io/errors.hpp"
 
 namespace loopscan::cli {
@@ -78,9 +77,9 @@ Described read_described(const std::string& path) {
     d.source = config;
     d.method = choice.method;
     d.mode = choice.mode;
-    if (d.method && d.mode && *d.method != "gist" && *d.method != "bow") {
+    if (d.method && d.mode) {
       const Configuration c = load_configuration(config, *d.method, *d.mode);
-      d.frame = descriptor_frame(c.method, sequence_options(c).descriptors);
+      if (!c.image_baseline) d.frame = descriptor_frame(c.method, sequence_options(c).descriptors);
     }
     return d;
   }
@@ -126,17 +125,16 @@ Configuration resolve_configuration(const ConfigFlags& flags,
   }
   std::string method = agreed("method", methods);
   if (method.empty()) method = fallback_method;
-  if (method != "gist" && method != "bow") parse_method_or_image(method);  // names a typo
+  if (method.empty()) {
+    throw std::invalid_argument(
+        "--method: no input says which method described it (no config.yaml or timing.json, no "
+        "`method` in --config)");
+  }
   std::string mode_text = agreed("mode", modes);
   const Mode mode = mode_text.empty() ? Mode::Default : parse_mode(mode_text);
   described_frame(described);  // described sets in different frames do not compare
   if (!flags.file.empty()) return load_configuration(flags.file, method, mode);
-  Configuration c;
-  parse_method_name(method, c.method, c.image_baseline);
-  const std::optional<ImageBaseline> image = c.image_baseline;
-  c = Configuration::defaults(c.method, mode);
-  c.image_baseline = image;
-  return c;
+  return Configuration::defaults(method, mode);
 }
 
 void require_loop_closing(const Configuration& c, const ConfigFlags& flags) {
@@ -145,9 +143,9 @@ void require_loop_closing(const Configuration& c, const ConfigFlags& flags) {
   } catch (const std::invalid_argument& e) {
     const std::string message = e.what();
     const std::string key = message.substr(0, message.find(':'));
-    if (flags.file.empty() || key_line(flags.file, key) == 0) throw;
-    throw io::InputError(flags.file, key_line(flags.file, key),
-                         "a configuration for loop closing: " + message);
+    const std::size_t line = flags.file.empty() ? 0 : key_line(flags.file, key);
+    if (line == 0) throw;
+    throw io::InputError(flags.file, line, "a configuration for loop closing: " + message);
   }
 }
 

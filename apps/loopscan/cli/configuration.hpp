@@ -39,7 +39,8 @@ Described read_described(const std::string& path);
 // A place database: its method, and its mode and frame when the file records them.
 Described described_map(const std::string& path, const DatabaseConfig& map);
 
-// Resolves the method (flag, file, described sets; else `fallback_method`) and the mode (else
+// Resolves the method (flag, file, described sets; else `fallback_method`, "" to require one of
+// them) and the mode (else
 // default), then loads the configuration (Configuration::defaults when there is no file).
 // `described` sets must agree with each other too; their frames must agree with each other.
 Configuration resolve_configuration(const ConfigFlags& flags,

@@ -28,12 +28,7 @@ void run_evaluate(const EvaluateArgs& a) {
   // (a contradiction is refused): reference signatures get the paper's evaluation.
   std::vector<Described> described = {read_described(a.signatures)};
   if (!a.against.empty()) described.push_back(read_described(a.against));
-  if (a.config.method.empty() && a.config.file.empty() && !described.front().method) {
-    throw std::invalid_argument("--method: " + a.signatures +
-                                " does not say which method described it (no config.yaml or "
-                                "timing.json)");
-  }
-  Configuration c = resolve_configuration(a.config, described);
+  Configuration c = resolve_configuration(a.config, described, "");
   if (!a.fusion.empty()) c.evaluation.fusion = parse_fusion(a.fusion);
   if (c.image_baseline) {
     run_image_evaluate({a.signatures, a.gt, a.against, a.gt2, a.out}, c);
