@@ -59,7 +59,7 @@ void run_all(const RunArgs& a) {
   require_loop_closing(c, a.config);
   const Mode mode = c.mode;
   for (const std::string& name : a.methods) {  // before the VO runs
-    if (!is_image_method(name)) parse_method_or_image(name);
+    for_method(c, name);                       // a typo is named
     if (name == "bow" && a.vocab.empty())
       throw std::invalid_argument("--methods bow needs --vocab");
   }
@@ -98,6 +98,7 @@ void run_all(const RunArgs& a) {
     steps.next(name + ": describe the keyframes" + (gt_rows.empty() ? "" : ", then match them"));
     MethodRun r;
     r.name = name;
+    r.protocol = c.evaluation.same_session;
     const std::string dir = a.out + "/" + name;
     auto positions_of = [&](const std::vector<int>& ids) {
       std::vector<Eigen::Vector3d> positions;
@@ -108,8 +109,7 @@ void run_all(const RunArgs& a) {
       std::vector<Eigen::Vector3d> headings;
       for (int id : ids) headings.push_back(gt_forward[static_cast<std::size_t>(id)]);
       const std::vector<Eigen::Vector3d> positions = positions_of(ids);
-      return eval::split_by_direction(r.pr, positions, positions, headings, headings,
-                                      eval::same_session_protocol());
+      return eval::split_by_direction(r.pr, positions, positions, headings, headings, r.protocol);
     };
     if (!is_image_method(name)) {
       const Configuration cm = for_method(c, name);
@@ -161,12 +161,12 @@ void run_all(const RunArgs& a) {
       r.describe_ms = d.transform_ms;
       write_image_descriptors(dir, d, places, for_method(c, name));
       if (!gt_rows.empty() && !places.empty()) {
-        const int mask = c.evaluation.same_session.mask_width;
+        const int mask = r.protocol.mask_width;
         const baselines::BaselineMatches m =
             name == "gist" ? baselines::best_gist_matches(d.gist, d.gist, mask)
                            : baselines::best_bow_matches(d.bow, d.bow, mask);
         const std::vector<Eigen::Vector3d> positions = positions_of(places);
-        r.pr = eval::evaluate_matches(m.matches, positions, positions, c.evaluation.same_session,
+        r.pr = eval::evaluate_matches(m.matches, positions, positions, r.protocol,
                                       mode == Mode::Reference);
         r.query_ms = m.query_ms;
         r.by_direction = split(r.keyframe_ids);

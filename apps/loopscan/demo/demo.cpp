@@ -159,6 +159,9 @@ void run_demo(const DemoArgs& a) {
   DemoResults results;
   results.route = &route.trajectory;
   results.threads = a.threads;
+  results.mode = c.mode;
+  results.same_season = c.evaluation.same_session;
+  results.cross_season = c.evaluation.cross_session;
   for (Method method : kMethods) {
     steps.next(method_name(method) +
                ": describe both drives, then match summer against itself and "

@@ -23,13 +23,13 @@ std::string pr_figure(const DemoResults& r, bool cross, const std::string& title
 }
 
 // The paper's route figure for Scan Context, one session pair.
-std::string route_figure(const MethodResult& sc, bool cross) {
+std::string route_figure(const DemoResults& r, const MethodResult& sc, bool cross) {
   report::RecognitionMap map;
   map.title =
       cross ? "Scan Context, winter queries vs summer map" : "Scan Context, summer vs summer";
   map.query_pos = cross ? sc.query_positions : sc.map_positions;
   map.db_pos = sc.map_positions;
-  map.protocol = cross ? eval::cross_session_protocol() : eval::same_session_protocol();
+  map.protocol = cross ? r.cross_season : r.same_season;
   return report::recognition_map_svg(map, (cross ? sc.cross : sc.same).pr);
 }
 
@@ -104,9 +104,11 @@ report::HtmlPage demo_page(const DemoResults& r) {
   page.title = "loopscan demo: " + r.route->name + ", summer and winter";
   page.paragraphs.push_back(
       "One synthetic world, driven twice: a summer session (the map) and a winter session "
-      "(queries). Same-season: summer against itself (10 m, index mask 100). Cross-season: winter "
-      "keyframes against the summer map (25 m, no mask), the paper's RobotCar protocol. Default "
-      "mode, one exact difference-matrix row per query.");
+      "(queries). Same-season: summer against itself (" +
+      protocol_text(r.same_season) + "). Cross-season: winter keyframes against the summer map (" +
+      protocol_text(r.cross_season) + "), the paper's RobotCar protocol. " +
+      (r.mode == Mode::Reference ? "Reference" : "Default") +
+      " mode, one exact difference-matrix row per query.");
   report::Table t;
   t.caption = "Accuracy and run time (ms per keyframe / per query, " + std::to_string(r.threads) +
               (r.threads == 1 ? " thread)" : " threads)");
@@ -140,9 +142,9 @@ report::HtmlPage demo_page(const DemoResults& r) {
   page.figures.push_back(
       {"Precision-recall, winter vs summer", pr_figure(r, true, "Cross season")});
   page.figures.push_back({"Places recognised by Scan Context, summer vs summer",
-                          route_figure(r.methods.front(), false)});
+                          route_figure(r, r.methods.front(), false)});
   page.figures.push_back({"Places recognised by Scan Context, winter vs summer",
-                          route_figure(r.methods.front(), true)});
+                          route_figure(r, r.methods.front(), true)});
   page.figures.push_back({"One imitated scan", scan_figure(r.example)});
   page.figures.push_back({"Its Scan Context, structure", scan_context_figure(r.example, false)});
   page.figures.push_back({"Its Scan Context, intensity", scan_context_figure(r.example, true)});

@@ -29,6 +29,8 @@ struct ExampleScan {
 struct DemoResults {
   const sim::Trajectory* route = nullptr;
   int threads = 1;  // for describing and matching (the table's run times)
+  Mode mode = Mode::Default;
+  eval::Protocol same_season, cross_season;
   std::vector<MethodResult> methods;
   ExampleScan example;
   std::vector<report::Figure> opposite;  // one reverse revisit's scans (demo_opposite.hpp)

@@ -1,5 +1,6 @@
 #include "outputs/evaluation.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -39,6 +40,12 @@ std::string fixed(double x, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, x);
   return buf;
+}
+
+std::string protocol_text(const eval::Protocol& p) {
+  std::string text =
+      fixed(p.threshold_m, p.threshold_m == std::floor(p.threshold_m) ? 0 : 2) + " m, ";
+  return text + (p.mask_width > 0 ? "|i - j| >= " + std::to_string(p.mask_width) : "no mask");
 }
 
 std::vector<std::string> direction_cells(const eval::DirectionSplit& split) {

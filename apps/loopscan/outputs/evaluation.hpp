@@ -22,6 +22,8 @@ void print_direction_split(const eval::DirectionSplit& split);
 std::vector<std::string> direction_cells(const eval::DirectionSplit& split);
 // A report cell: `x` with `digits` decimals.
 std::string fixed(double x, int digits);
+// "10 m, |i - j| >= 100" or "25 m, no mask": a protocol in a report's words.
+std::string protocol_text(const eval::Protocol& protocol);
 
 // query_ids / db_ids: keyframe ids behind the match indices of `pr`.
 void write_evaluation(const std::string& dir, const std::vector<int>& query_ids,

@@ -54,14 +54,15 @@ report::Figure recognition_figure(const MethodRun& r,
   map.title = r.name + ", same session";
   for (int id : r.keyframe_ids) map.query_pos.push_back(positions[static_cast<std::size_t>(id)]);
   map.db_pos = map.query_pos;
-  map.protocol = eval::same_session_protocol();
+  map.protocol = r.protocol;
   return {"Places recognised by " + r.name + " at 100% precision",
           report::recognition_map_svg(map, r.pr)};
 }
 
 std::vector<report::Series> add_method_results(const std::vector<MethodRun>& runs, int threads,
                                                report::HtmlPage& page, nlohmann::json& summary) {
-  report::Table places_table{"Accuracy (same session: 10 m, |i - j| >= 100)",
+  const std::string protocol = runs.empty() ? "" : protocol_text(runs.front().protocol);
+  report::Table places_table{"Accuracy (same session: " + protocol + ")",
                              {"method", "AUC", "recall@100%P", "F1 max", "GT loops", "places"},
                              {}};
   report::Table times{"Run time per keyframe: ms of one thread's work per item (the run used " +
@@ -113,8 +114,7 @@ std::vector<report::Series> add_method_results(const std::vector<MethodRun>& run
       std::any_of(runs.begin(), runs.end(), [](const MethodRun& r) { return r.evaluated; });
   if (evaluated && !any_revisits) {
     const std::string note =
-        "no ground-truth revisits: the drive never comes back within 10 m of a place at least "
-        "100 places earlier, so AUC, recall and F1 are undefined (n/a)";
+        "no ground-truth revisits (" + protocol + "): AUC, recall and F1 are undefined (n/a)";
     std::printf("%s\n", note.c_str());
     page.paragraphs.push_back(note + ".");
     summary["note"] = note;

@@ -24,6 +24,7 @@ struct MethodRun {
   double describe_ms = 0;         // describe / BoW transform
   bool has_describe_step = true;  // GIST's extraction is its whole description
   double query_ms = 0;
+  eval::Protocol protocol = eval::same_session_protocol();  // what pr and by_direction used
 };
 
 // metrics.json (with by_direction), pr.csv, matches.csv, pr.svg of one method.
