@@ -61,9 +61,12 @@ SignatureSet load_signature_set(const std::string& path, Method method,
   return set;
 }
 
-std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
-                                          const std::string& gt_path, const std::string& format) {
-  const std::vector<Eigen::Vector3d> all = read_positions(gt_path, gt_format(gt_path, format));
+namespace {
+
+// The rows of `all` (one per frame id of `gt_path`) at the keyframe ids.
+std::vector<Eigen::Vector3d> at_ids(const std::vector<Eigen::Vector3d>& all,
+                                    const std::vector<int>& keyframe_ids,
+                                    const std::string& gt_path) {
   std::vector<Eigen::Vector3d> out;
   for (int id : keyframe_ids) {
     if (id < 0 || static_cast<std::size_t>(id) >= all.size()) {
@@ -71,16 +74,22 @@ std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
                        "a line for keyframe id " + std::to_string(id) + " (file has " +
                            std::to_string(all.size()) + " lines)");
     }
-    out.push_back(all[id]);
+    out.push_back(all[static_cast<std::size_t>(id)]);
   }
   return out;
 }
 
+}  // namespace
+
+std::vector<Eigen::Vector3d> positions_of(const std::vector<int>& keyframe_ids,
+                                          const std::string& gt_path, const std::string& format) {
+  return at_ids(read_positions(gt_path, gt_format(gt_path, format)), keyframe_ids, gt_path);
+}
+
 void attach_positions(SignatureSet& set, const std::string& gt_path, const std::string& format) {
-  set.positions = positions_of(set.keyframe_ids, gt_path, format);
-  const std::vector<Eigen::Vector3d> all = read_headings(gt_path, gt_format(gt_path, format));
-  set.headings.clear();
-  for (int id : set.keyframe_ids) set.headings.push_back(all[static_cast<std::size_t>(id)]);
+  const GtFormat f = gt_format(gt_path, format);
+  set.positions = at_ids(read_positions(gt_path, f), set.keyframe_ids, gt_path);
+  set.headings = at_ids(read_headings(gt_path, f), set.keyframe_ids, gt_path);
 }
 
 }  // namespace loopscan::io
