@@ -51,7 +51,7 @@ TEST(Icp, RecoversRandomTransformsWithinTheBasin) {
     const closure::TargetCloud target(target_points);
     // Start from the yaw a descriptor would give, off by up to 5 degrees.
     const double yaw_guess = std::atan2(-T.linear()(0, 2), T.linear()(2, 2)) + 5 * M_PI / 180 * u(rng);
-    const closure::Loop loop = closure::verify_candidate(target, source, {yaw_guess});
+    const closure::Loop loop = closure::verify_candidate(target, source, {closure::yaw_rotation(yaw_guess)});
     SCOPED_TRACE(trial);
     EXPECT_EQ(loop.verdict, closure::Verdict::Accepted) << closure::to_string(loop.verdict)
         << " overlap " << loop.overlap << " rmse " << loop.rmse_m << " constraint " << loop.translation_constraint;
@@ -81,12 +81,12 @@ TEST(Icp, CorridorOfBareFacadesIsRefusedAsDegenerate) {
   const Eigen::Isometry3d T = pose(3, 0, 0, Eigen::Vector3d(0.5, 0, 4.0));
   const auto [target_points, source] = two_views(5, T, corridor);
   const closure::Loop loop =
-      closure::verify_candidate(closure::TargetCloud(target_points), source, {0.0});
+      closure::verify_candidate(closure::TargetCloud(target_points), source, {closure::yaw_rotation(0.0)});
   EXPECT_EQ(loop.verdict, closure::Verdict::Degenerate) << closure::to_string(loop.verdict)
       << " constraint " << loop.translation_constraint;
   // The same street with poles and parked cars is constrained.
   const auto [t2, s2] = two_views(5, T);
-  const closure::Loop ok = closure::verify_candidate(closure::TargetCloud(t2), s2, {0.0});
+  const closure::Loop ok = closure::verify_candidate(closure::TargetCloud(t2), s2, {closure::yaw_rotation(0.0)});
   EXPECT_EQ(ok.verdict, closure::Verdict::Accepted);
   EXPECT_GT(ok.translation_constraint, 3 * loop.translation_constraint)
       << ok.translation_constraint << " vs the corridor's " << loop.translation_constraint;
@@ -98,10 +98,10 @@ TEST(Icp, NearlyEmptyAndUnrelatedScansAreRefused) {
   closure::PlaceCloud few;
   few.points.assign(source.points.begin(), source.points.begin() + 40);
   few.structure = 40;
-  EXPECT_EQ(closure::verify_candidate(target, few, {0.0}).verdict, closure::Verdict::FewPoints);
+  EXPECT_EQ(closure::verify_candidate(target, few, {closure::yaw_rotation(0.0)}).verdict, closure::Verdict::FewPoints);
   EXPECT_EQ(closure::verify_candidate(closure::TargetCloud(Points3f(target_points.begin(),
                                                                     target_points.begin() + 40)),
-                                      source, {0.0})
+                                      source, {closure::yaw_rotation(0.0)})
                 .verdict,
             closure::Verdict::FewPoints);
   // Another street altogether (different poles, cars, facade offsets), from every heading.
@@ -109,7 +109,7 @@ TEST(Icp, NearlyEmptyAndUnrelatedScansAreRefused) {
     test::SceneOptions other;
     other.half_width_m = 4.5;  // a narrow lane: its facades fit neither of the query's
     const auto [unused, foreign] = two_views(seed, pose(0, 0, 0, Eigen::Vector3d(0, 0, 0)), other);
-    const closure::Loop loop = closure::verify_candidate(target, foreign, {0.0, M_PI / 2, M_PI, -M_PI / 2});
+    const closure::Loop loop = closure::verify_candidate(target, foreign, {closure::yaw_rotation(0.0), closure::yaw_rotation(M_PI / 2), closure::yaw_rotation(M_PI), closure::yaw_rotation(-M_PI / 2)});
     EXPECT_NE(loop.verdict, closure::Verdict::Accepted) << seed << " overlap " << loop.overlap
         << " rmse " << loop.rmse_m;
   }
@@ -216,6 +216,38 @@ TEST(TargetCloud, NearestMatchesBruteForceAndNormalsArePlaneNormals) {
   EXPECT_GT(vertical, ground * 9 / 10);
   EXPECT_THROW(closure::TargetCloud(Points3f{Eigen::Vector3f(NAN, 0, 0)}), std::invalid_argument);
   EXPECT_EQ(closure::TargetCloud(Points3f{}).nearest(Eigen::Vector3f::Zero(), 1.f, nullptr), -1);
+}
+
+}  // namespace
+}  // namespace loopscan
+
+namespace loopscan {
+namespace {
+
+// The loop covariance model: larger along the track for the opposite heading, across it for
+// a lateral offset, and in a direction the aligned surfaces leave weak; always positive
+// definite.
+TEST(LoopCovariance, GrowsWithTheViewpointChangeAndWeakGeometry) {
+  closure::Loop same;
+  same.translation_information = Eigen::Matrix3d::Identity() / 3.0;
+  const closure::Covariance6 base = closure::loop_covariance(same);
+  EXPECT_NEAR(std::sqrt(base(0, 0)), std::hypot(0.2, 0.1), 1e-9);
+  EXPECT_NEAR(std::sqrt(base(2, 2)), std::hypot(0.2, 0.1), 1e-9);
+  closure::Loop reverse = same;
+  reverse.T_query_match = closure::yaw_rotation(M_PI);
+  const closure::Covariance6 r = closure::loop_covariance(reverse);
+  EXPECT_NEAR(std::sqrt(r(2, 2)), std::hypot(1.8, 0.1), 1e-9);  // along the track
+  EXPECT_NEAR(r(0, 0), base(0, 0), 1e-9);                       // across: as the same heading
+  closure::Loop aside = same;
+  aside.T_query_match.translation().x() = 3.5;
+  EXPECT_NEAR(std::sqrt(closure::loop_covariance(aside)(0, 0)), std::hypot(0.2 + 0.3 * 3.5, 0.1), 1e-9);
+  closure::Loop corridor = same;  // facades only: nothing faces along z
+  corridor.translation_information = Eigen::Vector3d(0.6, 0.39, 0.01).asDiagonal();
+  const closure::Covariance6 c = closure::loop_covariance(corridor);
+  EXPECT_GT(c(2, 2), 5 * c(0, 0));
+  for (const closure::Covariance6& m : {base, r, c}) {
+    EXPECT_EQ(Eigen::LLT<closure::Covariance6>(m).info(), Eigen::Success);
+  }
 }
 
 }  // namespace

@@ -169,3 +169,42 @@ TEST(PoseGraph, BadEdgesAreRefused) {
 
 }  // namespace
 }  // namespace loopscan
+
+namespace loopscan {
+namespace {
+
+// A loop's covariance decides where the graph gives way: a direction the loop measured
+// loosely follows the odometry, a tight one follows the loop.
+TEST(PoseGraph, ALoopPullsOnlyAlongTheDirectionsItMeasured) {
+  const auto solve = [](const closure::Covariance6& loop_covariance) {
+    closure::PoseGraph g;
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    step.translation() = Eigen::Vector3d(0, 0, 2.0);
+    int last = g.add_node(Eigen::Isometry3d::Identity());
+    for (int i = 1; i <= 50; ++i) last = g.add_node(Eigen::Isometry3d::Identity(), &step);
+    // The loop says the last node sits 1 m right and 1 m ahead of where odometry put it.
+    Eigen::Isometry3d T_0_last = g.pose(0).inverse() * g.pose(last);
+    T_0_last.translation() += Eigen::Vector3d(1.0, 0, 1.0);
+    EXPECT_TRUE(g.add_loop(0, last, T_0_last, nullptr, nullptr, &loop_covariance));
+    return Eigen::Vector3d(g.pose(last).translation() - Eigen::Vector3d(0, 0, 100.0));
+  };
+  closure::Covariance6 tight_x = closure::Covariance6::Identity() * 1e-4;
+  tight_x(2, 2) = 1e4;  // along z: nothing measured
+  const Eigen::Vector3d moved = solve(tight_x);
+  EXPECT_NEAR(moved.x(), 1.0, 0.05);
+  EXPECT_NEAR(moved.z(), 0.0, 0.05);
+  closure::Covariance6 tight_z = closure::Covariance6::Identity() * 1e-4;
+  tight_z(0, 0) = 1e4;
+  const Eigen::Vector3d moved_z = solve(tight_z);
+  EXPECT_NEAR(moved_z.x(), 0.0, 0.05);
+  EXPECT_NEAR(moved_z.z(), 1.0, 0.05);
+  closure::Covariance6 singular = closure::Covariance6::Zero();
+  closure::PoseGraph g;
+  g.add_node(Eigen::Isometry3d::Identity());
+  g.add_node(Eigen::Isometry3d::Identity());
+  EXPECT_THROW(g.add_loop(0, 1, Eigen::Isometry3d::Identity(), nullptr, nullptr, &singular),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace loopscan

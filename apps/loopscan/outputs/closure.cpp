@@ -157,7 +157,7 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
   std::set<int> accepted_queries;  // with a true accepted loop
   io::TextFileWriter csv(dir + "/loops.csv");
   csv.write(std::string("query,match,session,r00,r01,r02,tx,r10,r11,r12,ty,r20,r21,r22,tz,") +
-            "overlap,rmse,accepted,verdict,distance,constraint" +
+            "overlap,rmse,accepted,verdict,distance,constraint,source" +
             (gt ? ",true,gt_distance,translation_error,"
                   "rotation_error_deg"
                 : "") +
@@ -175,6 +175,7 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
     n += std::snprintf(line + n, sizeof line - n, ",%.4f,%.4f,%d,%s,%.6g,%.5f", l.overlap, l.rmse_m,
                        int(l.accepted()), closure::to_string(l.verdict), l.distance,
                        l.translation_constraint);
+    n += std::snprintf(line + n, sizeof line - n, ",%s", l.nearby ? "nearby" : "descriptor");
     if (gt) {
       const GroundTruth& other = l.match.session != run.session && map_gt ? *map_gt : *gt;
       if (l.match.keyframe < 0 || std::size_t(l.match.keyframe) >= other.positions.size()) {

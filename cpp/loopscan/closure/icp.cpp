@@ -122,6 +122,7 @@ IcpResult score_alignment(const Points3f& source, const TargetCloud& target,
   r.overlap = structure == 0 ? 0.0 : double(structure_inliers) / double(structure);
   r.rmse_m = r.inliers > 0 ? std::sqrt(sum_d2 / r.inliers) : 0.0;
   if (with_normal > 0) {
+    r.translation_information = Htt / with_normal;
     r.translation_constraint =
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Htt, Eigen::EigenvaluesOnly)
             .eigenvalues()[0] / with_normal;

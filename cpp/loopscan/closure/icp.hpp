@@ -38,6 +38,8 @@ struct IcpResult {
   // (0: free, 1/3: isotropic).
   double translation_constraint = 0;
   double yaw_constraint = 0;  // the same for rotation about the up axis, per inlier, in m^2
+  // sum(n n^T) per inlier with a normal (trace <= 1; I / 3 when every direction is alike).
+  Eigen::Matrix3d translation_information = Eigen::Matrix3d::Zero();
   bool converged = false;
 };
 

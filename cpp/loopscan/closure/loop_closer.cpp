@@ -44,11 +44,6 @@ double rotation_angle(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).an
 LoopCloserConfig LoopCloserConfig::make(Method method, Mode mode, double range_m) {
   LoopCloserConfig c;
   c.recognition = RecognizerConfig::make(method, mode, range_m);
-  // The closer keeps the paper's PCA frame without lateral versions: with them it accepted
-  // reverse-lane loops whose verified poses err together, and the demo's summer ATE went
-  // 0.46 -> 0.78 m (no false loop, but worse); its thresholds were set on PCA-frame distances.
-  c.recognition.descriptors.scan_context.frame = DescriptorFrame::Pca;
-  c.recognition.descriptors.scan_context.lateral_versions_m.clear();
   if (method != Method::Delight && c.recognition.database.fusion == Fusion::Fused) {
     c.max_candidate_distance = -6.0;
   }
@@ -64,6 +59,7 @@ void validate(const LoopCloserConfig& c) {
   validate(c.cloud);
   validate(c.verify);
   validate(c.graph);
+  validate(c.loop_uncertainty);
   const ConsistencyConfig& k = c.consistency;
   if (c.candidates < 1 || c.candidates > 100 || k.required < 1 || k.required > 100 ||
       k.window < 1 || k.window > 1000 || !(k.max_translation_m > 0) || !(k.max_rotation_deg > 0) ||
@@ -100,6 +96,10 @@ LoopCloser::LoopCloser(const LoopCloserConfig& config, Database map,
     if (!db_.pose(i)) throw std::invalid_argument("loop closer: a map place has no pose");
   }
   anchored_ = db_.size() == 0;
+  if (!anchored_) {
+    map_run_ = 0;
+    run_parent_.push_back(0);
+  }
 }
 
 int LoopCloser::match_node(const Loop& loop) {
@@ -128,11 +128,15 @@ int LoopCloser::add_graph_node(const KeyframePose& given, bool reset) {
   int node;
   if (input_poses_.empty() || reset) {
     node = graph_.add_node(T_world_cam);
+    run_parent_.push_back(int(run_parent_.size()));
+    path_m_.push_back(path_m_.empty() ? 0.0 : path_m_.back());
   } else {
     const Eigen::Isometry3d odometry =
         isometry(input_poses_.back().T_cam_world) * T_world_cam;  // T_prev_this
     node = graph_.add_node(T_world_cam, &odometry);
+    path_m_.push_back(path_m_.back() + odometry.translation().norm());
   }
+  run_.push_back(int(run_parent_.size()) - 1);
   pose_index_[keyframe.id] = input_poses_.size();
   input_poses_.push_back(keyframe);
   graph_node_.push_back(node);
@@ -143,13 +147,74 @@ Eigen::Isometry3d LoopCloser::vo_T_world_cam(int keyframe_id) const {
   return isometry(input_poses_[pose_index_.at(keyframe_id)].T_cam_world).inverse();
 }
 
+int LoopCloser::root(int run) {
+  while (run_parent_[std::size_t(run)] != run) {
+    run = run_parent_[std::size_t(run)] = run_parent_[std::size_t(run_parent_[std::size_t(run)])];
+  }
+  return run;
+}
+
+// The places nearest to the query's estimated position, within a radius that grows with the
+// path travelled since the two could last be tied together (a loop, or the same VO run).
+std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id,
+                                                            const std::vector<Candidate>& taken) {
+  const ProximityConfig& p = config_.proximity;
+  std::vector<Proposal> out;
+  if (p.candidates <= 0) return out;
+  const std::size_t qi = pose_index_.at(keyframe_id);
+  const Eigen::Isometry3d T_world_query = graph_.pose(graph_node_[qi]);
+  const double since_loop = last_loop_path_m_ < 0 ? HUGE_VAL : path_m_[qi] - last_loop_path_m_;
+  const int query_run = run_of(qi);
+  const long searchable = long(db_.size()) - long(config_.recognition.query.exclude_recent);
+  std::vector<std::pair<double, Proposal>> found;
+  for (long i = 0; i < searchable; ++i) {
+    const std::size_t index = std::size_t(i);
+    const PlaceRef place = db_.place(index);
+    Eigen::Isometry3d T_world_place;
+    double path_between = HUGE_VAL;
+    if (place.session == config_.recognition.session) {
+      const std::size_t pi = pose_index_.at(place.keyframe);
+      if (run_of(pi) != query_run) continue;  // not yet tied to the query's run
+      if (run_[pi] == run_[qi]) path_between = path_m_[qi] - path_m_[pi];
+      T_world_place = graph_.pose(graph_node_[pi]);
+    } else {
+      if (map_run_ < 0 || root(map_run_) != query_run || !db_.pose(index)) continue;
+      T_world_place = isometry(*db_.pose(index)).inverse();
+    }
+    const double radius = std::min(
+        p.max_radius_m, p.base_radius_m + p.radius_per_m * std::min(path_between, since_loop));
+    const double d = (T_world_place.translation() - T_world_query.translation()).norm();
+    if (!(d <= radius)) continue;
+    bool descriptor_has_it = false;
+    for (const Candidate& c : taken) descriptor_has_it |= c.index == index;
+    if (descriptor_has_it) continue;
+    Proposal proposal;
+    proposal.candidate.place = place;
+    proposal.candidate.index = index;
+    proposal.candidate.distance = std::numeric_limits<double>::quiet_NaN();
+    proposal.predicted = T_world_query.inverse() * T_world_place;
+    found.push_back({d, proposal});
+  }
+  const std::size_t n = std::min(found.size(), std::size_t(p.candidates));
+  std::partial_sort(found.begin(), found.begin() + long(n), found.end(),
+                    [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (std::size_t k = 0; k < n; ++k) out.push_back(found[k].second);
+  return out;
+}
+
 std::vector<Loop> LoopCloser::verify(const TargetCloud& query, int keyframe_id,
-                                     const std::vector<Candidate>& candidates,
+                                     const std::vector<Proposal>& proposals,
                                      std::size_t& last_place_index) {
   std::vector<Loop> out;
-  for (const Candidate& c : candidates) {
-    if (!(c.distance <= config_.max_candidate_distance)) continue;
-    Loop loop = verify_candidate(query, clouds_[c.index], yaw_guesses(c), config_.verify);
+  for (const Proposal& proposal : proposals) {
+    const Candidate& c = proposal.candidate;
+    if (!proposal.predicted && !(c.distance <= config_.max_candidate_distance)) continue;
+    const std::vector<Eigen::Isometry3d> guesses =
+        proposal.predicted ? std::vector<Eigen::Isometry3d>{*proposal.predicted} : yaw_guesses(c);
+    VerifyConfig verify_config = config_.verify;
+    if (proposal.predicted) verify_config.min_overlap = config_.proximity.min_overlap;
+    Loop loop = verify_candidate(query, clouds_[c.index], guesses, verify_config);
+    loop.nearby = proposal.predicted.has_value();
     loop.query = keyframe_id;
     loop.match = c.place;
     loop.distance = c.distance;
@@ -232,7 +297,14 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
   {
     const ScopedTimer timer(times_.verify);
     std::size_t index = 0;  // database place of the last verification
-    out.verified = verify(*target, keyframe.id, out.candidates, index);
+    std::vector<Proposal> proposals;
+    for (const Candidate& c : out.candidates) proposals.push_back({c, std::nullopt});
+    out.verified = verify(*target, keyframe.id, proposals, index);
+    if (out.verified.empty() || out.verified.back().verdict != Verdict::Accepted) {
+      const std::vector<Loop> nearby =
+          verify(*target, keyframe.id, nearby_places(keyframe.id, out.candidates), index);
+      out.verified.insert(out.verified.end(), nearby.begin(), nearby.end());
+    }
     if (!out.verified.empty()) {
       Loop& last = out.verified.back();
       if (last.verdict == Verdict::Accepted) {
@@ -259,17 +331,34 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
     const int a = graph_node_[pose_index_.at(loop.query)];
     if (!anchored_ && loop.match.session != config_.recognition.session) anchor(loop, a);
     const int b = match_node(loop);
+    last_loop_path_m_ = path_m_[pose_index_.at(loop.query)];
+    const int ra = run_of(pose_index_.at(loop.query));
+    const int rb = loop.match.session == config_.recognition.session
+                       ? run_of(pose_index_.at(loop.match.keyframe))
+                       : root(map_run_);
+    run_parent_[std::size_t(std::max(ra, rb))] = std::min(ra, rb);
     int id;
     // A loop the current estimate already agrees with may wait for the next solve; any other
     // one is solved now, through the graph's cost gate.
-    const bool agrees =
-        graph_.loop_residual(a, b, loop.T_query_match) <= config_.graph.max_loop_residual;
+    Covariance6 measured = loop_covariance(loop, config_.loop_uncertainty);
+    const double path = path_m_[pose_index_.at(loop.query)];
+    int same_revisit = 1;
+    for (auto it = loop_paths_m_.rbegin();
+         it != loop_paths_m_.rend() && path - *it < config_.loop_uncertainty.correlation_length_m;
+         ++it) {
+      ++same_revisit;
+    }
+    loop_paths_m_.push_back(path);
+    measured *= double(same_revisit);
+    const Covariance6* covariance = config_.loop_uncertainty.measured ? &measured : nullptr;
+    const bool agrees = graph_.loop_residual(a, b, loop.T_query_match, covariance) <=
+                        config_.graph.max_loop_residual;
     if (!agrees || described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
-      graph_.add_loop(a, b, loop.T_query_match, &out.solve, &id);
+      graph_.add_loop(a, b, loop.T_query_match, &out.solve, &id, covariance);
       last_solve_at_ = described_;
       ++times_.solves;
     } else {
-      id = graph_.add_loop_unsolved(a, b, loop.T_query_match);
+      id = graph_.add_loop_unsolved(a, b, loop.T_query_match, covariance);
       unsolved_loops_ = true;
     }
     graph_loops_.push_back({loop_index_.at({loop.query, loop.place_index}), id});

@@ -22,6 +22,20 @@ struct ConsistencyConfig {
   double max_rotation_deg = 2.0;
 };
 
+// Places near the query in the current estimate of the trajectory are verified too: a revisit
+// the descriptor misses (the other driving direction, another lane or season) is still found
+// while the estimate is good enough, and every loop makes it better.
+struct ProximityConfig {
+  int candidates = 2;           // nearest places verified per keyframe (0: descriptor candidates only)
+  double base_radius_m = 8.0;   // search radius just after a loop or at the start of a VO run ...
+  double radius_per_m = 0.02;   // ... growing with the path travelled since (the VO's drift)
+  double max_radius_m = 30.0;
+  // A place where the estimate puts the query is likely the same place before any geometry is
+  // seen (far likelier than the best of thousands of descriptor matches), so less overlap
+  // suffices: the pose the alignment finds must still pass the graph's test.
+  double min_overlap = 0.25;
+};
+
 struct LoopCloserConfig {
   RecognizerConfig recognition = RecognizerConfig::make(Method::ScanContext);
   int candidates = 3;  // best places verified per keyframe (first that passes wins)
@@ -33,6 +47,8 @@ struct LoopCloserConfig {
   NormalConfig normals;
   VerifyConfig verify;
   ConsistencyConfig consistency;
+  ProximityConfig proximity;
+  LoopUncertaintyConfig loop_uncertainty;  // what each loop edge's alignment measured
   PoseGraphConfig graph;
   // Solve the graph at most every this many keyframes while loops keep coming: loops the
   // current estimate already agrees with wait; any other (a new revisit) is solved at once,
@@ -104,8 +120,15 @@ class LoopCloser {
   void begin_keyframe(const KeyframePose& keyframe, KeyframeClosure& out);
   // Steps 2-7 of a described keyframe: describe, query, verify, confirm, join, graph.
   void close_place(const KeyframePose& keyframe, const Cloud& scan, KeyframeClosure& out);
+  struct Proposal {
+    Candidate candidate;
+    std::optional<Eigen::Isometry3d> predicted;  // T_query_match from the estimate (nearby places)
+  };
+  std::vector<Proposal> nearby_places(int keyframe_id, const std::vector<Candidate>& taken);
   std::vector<Loop> verify(const TargetCloud& query, int keyframe_id,
-                           const std::vector<Candidate>& candidates, std::size_t& last_place_index);
+                           const std::vector<Proposal>& proposals, std::size_t& last_place_index);
+  int root(int run);  // the representative of the runs joined by loops
+  int run_of(std::size_t pose_index) { return root(run_[pose_index]); }
   std::vector<Loop> confirm(const Loop& loop, std::size_t place_index);
   bool consistent(const Verified& earlier, const Loop& loop, std::size_t place_index) const;
   Eigen::Isometry3d vo_T_world_cam(int keyframe_id) const;
@@ -121,6 +144,12 @@ class LoopCloser {
   std::vector<KeyframePose> input_poses_;
   std::unordered_map<int, std::size_t> pose_index_;  // keyframe id -> input_poses_ index
   std::vector<int> graph_node_;                      // per input pose
+  std::vector<double> path_m_;                       // per input pose: VO path length so far
+  std::vector<int> run_;                             // per input pose: its VO run
+  std::vector<int> run_parent_;                      // union-find over runs joined by loops
+  int map_run_ = -1;                                 // the saved map's places, as one run
+  double last_loop_path_m_ = -1;                     // path_m_ at the last accepted loop
+  std::vector<double> loop_paths_m_;                 // path_m_ of each loop edge's query
   std::unordered_map<std::size_t, int> map_node_;    // saved-map place -> fixed graph node
   bool anchored_ = true;
   int anchored_at_ = -1;

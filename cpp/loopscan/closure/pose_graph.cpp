@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <ceres/ceres.h>
 
 namespace loopscan::closure {
@@ -23,7 +25,7 @@ struct Edge {
   int a = 0, b = 0;
   Eigen::Vector3d p_ab;
   Eigen::Quaterniond q_ab;
-  Eigen::Matrix<double, 6, 1> sqrt_info;
+  Eigen::Matrix<double, 6, 6> sqrt_info;  // upper triangular: r^T r = e^T Sigma^-1 e
   bool loop = false;
   bool active = true;
 };
@@ -39,10 +41,11 @@ struct RelativePoseError {
     const Eigen::Quaternion<T> ra_inv = ra.conjugate();
     const Eigen::Matrix<T, 3, 1> p_est = ra_inv * (tb - ta);
     const Eigen::Quaternion<T> dq = e->q_ab.template cast<T>().conjugate() * (ra_inv * rb);
+    Eigen::Matrix<T, 6, 1> raw;
+    raw.template head<3>() = p_est - e->p_ab.template cast<T>();
+    raw.template tail<3>() = T(2.0) * dq.vec();
     Eigen::Map<Eigen::Matrix<T, 6, 1>> res(r);
-    res.template head<3>() = p_est - e->p_ab.template cast<T>();
-    res.template tail<3>() = T(2.0) * dq.vec();
-    for (int k = 0; k < 6; ++k) res[k] *= T(e->sqrt_info[k]);
+    res = e->sqrt_info.template cast<T>() * raw;
     return true;
   }
 };
@@ -177,7 +180,17 @@ struct PoseGraph::Impl {
     }
   }
 
+  Edge loop_edge(int a, int b, const Eigen::Isometry3d& T_a_b, const Covariance6* covariance) const;
+
   Edge make_edge(int a, int b, const Eigen::Isometry3d& T_a_b, double sigma_t, double sigma_r,
+                 bool loop) const {
+    Covariance6 covariance = Covariance6::Zero();
+    covariance.diagonal() << Eigen::Vector3d::Constant(sigma_t * sigma_t),
+        Eigen::Vector3d::Constant(sigma_r * sigma_r);
+    return make_edge(a, b, T_a_b, covariance, loop);
+  }
+
+  Edge make_edge(int a, int b, const Eigen::Isometry3d& T_a_b, const Covariance6& covariance,
                  bool loop) const {
     if (a < 0 || b < 0 || a >= int(nodes.size()) || b >= int(nodes.size()) || a == b) {
       throw std::invalid_argument("pose graph: edge between nodes " + std::to_string(a) +
@@ -189,7 +202,13 @@ struct PoseGraph::Impl {
     e.a = a, e.b = b, e.loop = loop;
     e.p_ab = T_a_b.translation();
     e.q_ab = Eigen::Quaterniond(T_a_b.rotation()).normalized();
-    e.sqrt_info << Eigen::Vector3d::Constant(1.0 / sigma_t), Eigen::Vector3d::Constant(1.0 / sigma_r);
+    const Eigen::LLT<Covariance6> positive(covariance);
+    const Eigen::LLT<Covariance6> llt(Covariance6(covariance.inverse()));
+    if (!covariance.allFinite() || positive.info() != Eigen::Success ||
+        llt.info() != Eigen::Success || !llt.matrixU().toDenseMatrix().allFinite()) {
+      throw std::invalid_argument("pose graph: an edge covariance that is not positive definite");
+    }
+    e.sqrt_info = llt.matrixU();
     return e;
   }
 };
@@ -249,17 +268,22 @@ void PoseGraph::transform(const Eigen::Isometry3d& T_new_old) {
   }
 }
 
-int PoseGraph::add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b) {
-  const PoseGraphConfig& c = impl_->config;
-  impl_->edges.push_back(
-      impl_->make_edge(a, b, T_a_b, c.loop_translation_m, kDeg * c.loop_rotation_deg, true));
+Edge PoseGraph::Impl::loop_edge(int a, int b, const Eigen::Isometry3d& T_a_b,
+                                const Covariance6* covariance) const {
+  return covariance ? make_edge(a, b, T_a_b, *covariance, true)
+                    : make_edge(a, b, T_a_b, config.loop_translation_m,
+                                kDeg * config.loop_rotation_deg, true);
+}
+
+int PoseGraph::add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b,
+                                 const Covariance6* covariance) {
+  impl_->edges.push_back(impl_->loop_edge(a, b, T_a_b, covariance));
   return static_cast<int>(impl_->edges.size() - 1);
 }
 
-double PoseGraph::loop_residual(int a, int b, const Eigen::Isometry3d& T_a_b) const {
-  const PoseGraphConfig& c = impl_->config;
-  const Edge e = impl_->make_edge(a, b, T_a_b, c.loop_translation_m, kDeg * c.loop_rotation_deg, true);
-  return std::sqrt(impl_->edge_cost(e));
+double PoseGraph::loop_residual(int a, int b, const Eigen::Isometry3d& T_a_b,
+                                const Covariance6* covariance) const {
+  return std::sqrt(impl_->edge_cost(impl_->loop_edge(a, b, T_a_b, covariance)));
 }
 
 bool PoseGraph::loop_active(int loop_id) const {
@@ -275,10 +299,10 @@ GraphSolve PoseGraph::optimise() {
 }
 
 bool PoseGraph::add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve,
-                         int* loop_id) {
+                         int* loop_id, const Covariance6* covariance) {
   const std::vector<Node> before = impl_->nodes;
   const double cost_before = impl_->cost();
-  const int id = add_loop_unsolved(a, b, T_a_b);
+  const int id = add_loop_unsolved(a, b, T_a_b, covariance);
   if (loop_id) *loop_id = id;
   GraphSolve s = impl_->solve();
   bool kept = s.cost_after - cost_before <= impl_->config.max_loop_cost;

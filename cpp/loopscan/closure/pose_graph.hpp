@@ -11,6 +11,9 @@
 
 namespace loopscan::closure {
 
+// Covariance of a relative pose: translation (m, in the first node's frame), then rotation (rad).
+using Covariance6 = Eigen::Matrix<double, 6, 6>;
+
 struct PoseGraphConfig {
   // Odometry standard deviations grow with the distance d between the two keyframes:
   // sigma = max(min, per_m * d). Loose on purpose: a loop that needs more than this is suspect.
@@ -59,14 +62,17 @@ class PoseGraph {
   // agrees (see the header comment); the poses are those of the solve either way.
   // Returns true when the loop was kept.
   // Returns true when the loop was kept; `loop_id` (optional) receives its id.
+  // `covariance`: what the loop's alignment measured (nullptr: the config's loop sigmas).
   bool add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve = nullptr,
-                int* loop_id = nullptr);
+                int* loop_id = nullptr, const Covariance6* covariance = nullptr);
 
   // Whitened residual norm a loop T_a_b would have at the current estimate.
-  double loop_residual(int a, int b, const Eigen::Isometry3d& T_a_b) const;
+  double loop_residual(int a, int b, const Eigen::Isometry3d& T_a_b,
+                       const Covariance6* covariance = nullptr) const;
 
   // Adds a loop without solving (batch use); call optimise() afterwards. Returns its id.
-  int add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b);
+  int add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b,
+                        const Covariance6* covariance = nullptr);
   // False once a solve dropped the loop (or the cost gate refused it).
   bool loop_active(int loop_id) const;
   GraphSolve optimise();

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
+
 namespace loopscan::closure {
 
 const char* to_string(Verdict v) {
@@ -15,6 +17,7 @@ const char* to_string(Verdict v) {
     case Verdict::HighResidual: return "high-residual";
     case Verdict::Degenerate: return "degenerate";
     case Verdict::TooFar: return "too-far";
+    case Verdict::Ambiguous: return "ambiguous";
   }
   return "?";
 }
@@ -27,13 +30,46 @@ void validate(const VerifyConfig& c) {
       !(c.max_translation_m > 0 && c.max_translation_m <= 1000) ||
       !(c.along_track_seed_m >= 0 && c.along_track_seed_m <= 100) || c.screen_iterations < 1 ||
       !(c.rival_share >= 0 && c.rival_share <= 1) ||
+      !(c.ambiguity_share >= 0 && c.ambiguity_share <= 1) ||
       c.screen_iterations > 1000 || !(c.screen_min_overlap >= 0 && c.screen_min_overlap <= 1)) {
     throw std::invalid_argument(
         "verify config: min_points in [3, 2^22], min_overlap in [0, 1], max_rmse_m in (0, 100], "
         "min_translation_constraint in [0, 1], max_translation_m in (0, 1000], "
         "along_track_seed_m in [0, 100], screen_iterations in [1, 1000], screen_min_overlap in "
-        "[0, 1], rival_share in [0, 1]");
+        "[0, 1], rival_share and ambiguity_share in [0, 1]");
   }
+}
+
+void validate(const LoopUncertaintyConfig& c) {
+  for (double v : {c.base_m, c.rotation_deg}) {
+    if (!(v > 0 && v <= 1e3)) throw std::invalid_argument("loop uncertainty: base_m and rotation_deg in (0, 1000]");
+  }
+  for (double v : {c.reverse_along_m, c.lateral_per_m, c.turn_m, c.geometry_m, c.correlation_length_m}) {
+    if (!(v >= 0 && v <= 1e3)) throw std::invalid_argument("loop uncertainty: growth terms in [0, 1000]");
+  }
+}
+
+Covariance6 loop_covariance(const Loop& loop, const LoopUncertaintyConfig& c) {
+  const Eigen::Matrix3d R = loop.T_query_match.rotation();
+  const double yaw = std::atan2(R(0, 2), R(2, 2));  // heading difference about the up axis
+  const double along = c.base_m + c.reverse_along_m * 0.5 * (1.0 - std::cos(yaw));
+  const double across = c.base_m + c.lateral_per_m * std::abs(loop.T_query_match.translation().x()) +
+                        c.turn_m * std::abs(std::sin(yaw));
+  Eigen::Matrix3d view = Eigen::Vector3d(across * across, c.base_m * c.base_m, along * along).asDiagonal();
+  // Directions the surfaces constrain weakly (eigenvalue lambda of the per-inlier normal
+  // matrix, 1/3 when all are alike) add geometry_m^2 / (3 lambda).
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(loop.translation_information);
+  Eigen::Matrix3d geometry = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    const double lambda = std::max(eig.eigenvalues()[k], 1e-4);
+    geometry += c.geometry_m * c.geometry_m / (3.0 * lambda) * eig.eigenvectors().col(k) *
+                eig.eigenvectors().col(k).transpose();
+  }
+  Covariance6 out = Covariance6::Zero();
+  out.topLeftCorner<3, 3>() = view + geometry;
+  const double r = c.rotation_deg * M_PI / 180.0;
+  out.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * (r * r);
+  return out;
 }
 
 Eigen::Isometry3d yaw_rotation(double yaw_rad) {
@@ -42,15 +78,19 @@ Eigen::Isometry3d yaw_rotation(double yaw_rad) {
   return T;
 }
 
-std::vector<double> yaw_guesses(const Candidate& c) {
-  if (!std::isfinite(c.yaw_rad)) return {0.0, M_PI / 2, M_PI, -M_PI / 2};
+std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& c) {
   // (A mirrored match's yaw already accounts for the reflection: starting also from the
   // reflected yaw cost 20 % more time and no loop on the simulated drives.)
-  return {c.yaw_rad, c.yaw_rad + M_PI};
+  const std::vector<double> yaws = std::isfinite(c.yaw_rad)
+                                       ? std::vector<double>{c.yaw_rad, c.yaw_rad + M_PI}
+                                       : std::vector<double>{0.0, M_PI / 2, M_PI, -M_PI / 2};
+  std::vector<Eigen::Isometry3d> out;
+  for (double yaw : yaws) out.push_back(yaw_rotation(yaw));
+  return out;
 }
 
 Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
-                      const std::vector<double>& yaws, const VerifyConfig& config) {
+                      const std::vector<Eigen::Isometry3d>& guesses, const VerifyConfig& config) {
   validate(config);
   Loop loop;
   if (int(query.size()) < config.min_points || int(place.points.size()) < config.min_points ||
@@ -61,9 +101,9 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
   std::vector<Eigen::Isometry3d> starts;
   const double a = config.along_track_seed_m;
   for (double along : {0.0, a, -a, 2 * a, -2 * a, 3 * a, -3 * a}) {
-    for (double yaw : yaws) {
-      Eigen::Isometry3d T = yaw_rotation(yaw);
-      T.translation() = Eigen::Vector3d(0, 0, along);
+    for (const Eigen::Isometry3d& guess : guesses) {
+      Eigen::Isometry3d T = guess;
+      T.translation() += Eigen::Vector3d(0, 0, along);
       starts.push_back(T);
     }
   }
@@ -107,18 +147,24 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
     loop.verdict = Verdict::LowOverlap;
     return loop;
   }
+  std::vector<IcpResult> refined;
   for (std::size_t k = 0; k < finalists.size(); ++k) {
     const Eigen::Isometry3d start = screened[finalists[k]].T_target_source;
-    IcpResult r = refine.stage_distances_m.empty()
-                      ? score_alignment(place.points, query, start, config.icp, place.structure)
-                      : align_point_to_plane(place.points, query, start, refine, place.structure);
-    loop.iterations += r.iterations;
-    if (k == 0 || r.overlap > best.overlap) best = r;
+    refined.push_back(refine.stage_distances_m.empty()
+                          ? score_alignment(place.points, query, start, config.icp, place.structure)
+                          : align_point_to_plane(place.points, query, start, refine, place.structure));
+    loop.iterations += refined.back().iterations;
+    if (k == 0 || refined.back().overlap > best.overlap) best = refined.back();
+  }
+  bool ambiguous = false;
+  for (const IcpResult& r : refined) {
+    ambiguous |= far_from(best, r) && r.overlap >= config.ambiguity_share * best.overlap;
   }
   loop.T_query_match = best.T_target_source;
   loop.overlap = best.overlap;
   loop.rmse_m = best.rmse_m;
   loop.translation_constraint = best.translation_constraint;
+  loop.translation_information = best.translation_information;
   if (best.overlap < config.min_overlap) {
     loop.verdict = Verdict::LowOverlap;
   } else if (best.rmse_m > config.max_rmse_m) {
@@ -127,6 +173,8 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
     loop.verdict = Verdict::Degenerate;
   } else if (best.T_target_source.translation().norm() > config.max_translation_m) {
     loop.verdict = Verdict::TooFar;
+  } else if (ambiguous) {
+    loop.verdict = Verdict::Ambiguous;
   } else {
     loop.verdict = Verdict::Accepted;
   }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "loopscan/closure/icp.hpp"
+#include "loopscan/closure/pose_graph.hpp"
 #include "loopscan/core/database/database.hpp"
 
 namespace loopscan::closure {
@@ -20,6 +21,7 @@ enum class Verdict {
   HighResidual,
   Degenerate,    // geometry leaves a direction unconstrained
   TooFar,        // the alignment moved the place beyond max_translation_m
+  Ambiguous,     // a distinct alignment (over 1 m or 10 degrees away) fits almost as well
 };
 const char* to_string(Verdict v);
 
@@ -33,8 +35,10 @@ struct Loop {
   double rmse_m = 0;
   int iterations = 0;
   double translation_constraint = 0;
+  Eigen::Matrix3d translation_information = Eigen::Matrix3d::Zero();  // IcpResult's
   double distance = 0;  // the candidate's descriptor distance
   Verdict verdict = Verdict::LowOverlap;
+  bool nearby = false;  // proposed by the trajectory estimate, not by the descriptor
   bool accepted() const { return verdict == Verdict::Accepted; }
 };
 
@@ -51,6 +55,9 @@ struct VerifyConfig {
   int screen_iterations = 6;
   double screen_min_overlap = 0.25;  // below this after screening: refused without refining
   double rival_share = 0.8;  // the rival is refined only if it screened this close to the best
+  // The refined rival reaching this share of the best's overlap: the place is ambiguous (a
+  // street that slides along itself), not verified.
+  double ambiguity_share = 0.9;
   double max_rmse_m = 0.45;
   double min_translation_constraint = 0.004;
   double max_translation_m = 8.0;  // farther apart is not the same place
@@ -58,14 +65,40 @@ struct VerifyConfig {
 
 void validate(const VerifyConfig& config);
 
+// How far a verified loop's pose may be off, as a model of what its alignment measured
+// (calibrated on the loops of simulated and real drives, docs/loop-closing.md): surfaces seen
+// from another viewpoint are other sides of the same objects, so the error grows with the
+// difference of heading (along the track: the front of a tree or a car against its back) and
+// of lateral position; a direction the aligned surfaces leave weak is weak in the edge too.
+struct LoopUncertaintyConfig {
+  bool measured = true;            // false: every loop gets pose_graph.loop_*_m / _deg
+  double base_m = 0.2;             // same place, same heading
+  double reverse_along_m = 1.6;    // added along the track for the opposite heading
+  double lateral_per_m = 0.3;      // added across the track per metre between the keyframes
+  double turn_m = 0.8;             // added across the track at 90 degrees of heading difference
+  double geometry_m = 0.1;         // scaled by the weakness of each direction of the surfaces
+  double rotation_deg = 1.0;
+  // Loops of one revisit err together (the same surfaces seen from the same two tracks): the
+  // k-th loop within this much travel gets k times the covariance, so a revisit weighs about
+  // as much as a few independent loops, however many keyframes it spans (0: independent).
+  double correlation_length_m = 20.0;
+};
+void validate(const LoopUncertaintyConfig& config);
+
+// The covariance of T_query_match (translation in the query's frame, then rotation).
+Covariance6 loop_covariance(const Loop& loop, const LoopUncertaintyConfig& config = {});
+
 // Initial yaws to try: the candidate's own yaw (Scan Context, mirrored matches included) and
 // its opposite, or four headings when the method gives none (M2DP, DELIGHT).
-std::vector<double> yaw_guesses(const Candidate& candidate);
+std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& candidate);
 
 // Aligns `place` (the map place's cloud, its camera frame) onto `query` and judges it; the
 // verdict is Accepted when every geometric test passes (consistency is the closer's).
+// `guesses`: initial T_query_match (a yaw from the descriptor, or the pose the graph predicts);
+// ICP starts from each and from each shifted along the query's track.
 Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
-                      const std::vector<double>& yaws, const VerifyConfig& config = {});
+                      const std::vector<Eigen::Isometry3d>& guesses, const VerifyConfig& config = {});
+
 
 // Rotation about the camera's up axis (-y), positive to the left: Candidate::yaw_rad's sense.
 Eigen::Isometry3d yaw_rotation(double yaw_rad);

@@ -122,17 +122,12 @@ LaneQueryOptions lane_query_options(const Configuration& c) {
 closure::LoopCloserConfig loop_closer_config(const Configuration& c) {
   closure::LoopCloserConfig l = c.closure.closer;
   RecognizerConfig& r = l.recognition;
-  const ScanContextConfig own = r.descriptors.scan_context;  // the closer's frame and versions
   const int exclude_recent = r.query.exclude_recent;
   const SequenceOptions s = sequence_options(c);
   r.method = c.method;
   r.imitation = s.imitation;
-  r.descriptors = s.descriptors;
-  r.descriptors.scan_context.frame = own.frame;
-  r.descriptors.scan_context.lateral_versions_m = own.lateral_versions_m;
+  r.descriptors = s.descriptors;  // describe's, db's and the Recognizer's: one recognition path
   r.database = database_config(c);
-  r.database.scan_context = r.descriptors.scan_context;
-  r.database.frame = descriptor_frame(c.method, r.descriptors);  // the closer's own
   r.query = c.database.query;
   r.query.exclude_recent = exclude_recent;
   return l;

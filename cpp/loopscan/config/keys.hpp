@@ -153,12 +153,6 @@ void visit_closure(V& v, Configuration& c) {
         "a query skips the places of the last N keyframes (the paper's 100-place mask)");
   v.key("true_within_m", c.closure.true_within_m, above(0, 1000),
         "with ground truth: a loop is true when its keyframes are this close (m)");
-  v.section("scan_context", "the closer's own Scan Context frame", [&] {
-    ScanContextConfig& s = l.recognition.descriptors.scan_context;
-    v.key("frame", s.frame, "pca | camera | centroid | gravity-pca");
-    v.key("lateral_versions_m", s.lateral_versions_m,
-          list(-100, 100, ScanContextConfig::kMaxLateralVersions), "as descriptors.scan_context");
-  });
   v.section("cloud", "each place's cloud for verification", [&] {
     v.key("voxel_m", l.cloud.voxel_m, closed(0.01, 10), "one point (the centroid) per voxel");
     v.key("max_points", l.cloud.max_points, closed(16, 1 << 22), "kept evenly beyond this");
@@ -184,6 +178,8 @@ void visit_closure(V& v, Configuration& c) {
           "below this after screening: refused without refining");
     v.key("rival_share", f.rival_share, closed(0, 1),
           "a rival start is refined when it screened this close to the best");
+    v.key("ambiguity_share", f.ambiguity_share, closed(0, 1),
+          "a refined rival this close to the best's overlap: ambiguous, refused");
     v.key("max_rmse_m", f.max_rmse_m, above(0, 100), "point-to-plane RMS of the inliers");
     v.key("min_translation_constraint", f.min_translation_constraint, closed(0, 1),
           "weakest translation direction (smallest eigenvalue of sum n n^T per inlier)");
@@ -209,6 +205,32 @@ void visit_closure(V& v, Configuration& c) {
     v.key("max_translation_m", k.max_translation_m, above(0, 1e6), "agreement in translation");
     v.key("max_rotation_deg", k.max_rotation_deg, above(0, 360), "agreement in rotation");
   });
+  v.section("proximity", "places near the query in the current trajectory estimate", [&] {
+    closure::ProximityConfig& p = l.proximity;
+    v.key("candidates", p.candidates, closed(0, 100),
+          "nearest places verified per keyframe (0: off)");
+    v.key("base_radius_m", p.base_radius_m, closed(0, 1e4),
+          "search radius after a loop or at a run's start");
+    v.key("radius_per_m", p.radius_per_m, closed(0, 10),
+          "... growing with the path travelled since (m/m)");
+    v.key("max_radius_m", p.max_radius_m, closed(0, 1e4), "");
+    v.key("min_overlap", p.min_overlap, closed(0, 1), "verification.min_overlap for these places");
+  });
+  v.section("loop_uncertainty", "each loop edge's covariance, from its alignment", [&] {
+    closure::LoopUncertaintyConfig& u = l.loop_uncertainty;
+    v.key("measured", u.measured, "false: every loop gets pose_graph.loop_translation_m / _deg");
+    v.key("base_m", u.base_m, above(0, 1000), "same place, same heading (m)");
+    v.key("reverse_along_m", u.reverse_along_m, closed(0, 1000),
+          "added along the track for the opposite heading (m)");
+    v.key("lateral_per_m", u.lateral_per_m, closed(0, 1000),
+          "added across the track per metre between the keyframes");
+    v.key("turn_m", u.turn_m, closed(0, 1000), "added across the track at 90 degrees of heading");
+    v.key("geometry_m", u.geometry_m, closed(0, 1000),
+          "scaled by 1 / sqrt(3 lambda) in each direction the surfaces constrain (lambda)");
+    v.key("rotation_deg", u.rotation_deg, above(0, 1000), "");
+    v.key("correlation_length_m", u.correlation_length_m, closed(0, 1e6),
+          "the k-th loop within this much travel gets k times the covariance");
+  });
   v.section("pose_graph", "the SE(3) pose graph (Ceres)", [&] {
     closure::PoseGraphConfig& g = l.graph;
     v.key("odometry_translation_per_m", g.odometry_translation_per_m, above(0, 1e6),
@@ -217,8 +239,9 @@ void visit_closure(V& v, Configuration& c) {
     v.key("odometry_rotation_deg_per_m", g.odometry_rotation_deg_per_m, above(0, 1e6),
           "VO rotation sigma per metre travelled (deg/m)");
     v.key("odometry_rotation_min_deg", g.odometry_rotation_min_deg, above(0, 1e6), "");
-    v.key("loop_translation_m", g.loop_translation_m, above(0, 1e6), "loop edge sigma");
-    v.key("loop_rotation_deg", g.loop_rotation_deg, above(0, 1e6), "loop edge sigma");
+    v.key("loop_translation_m", g.loop_translation_m, above(0, 1e6),
+          "loop edge sigma without loop_uncertainty.measured");
+    v.key("loop_rotation_deg", g.loop_rotation_deg, above(0, 1e6), "");
     v.key("max_loop_cost", g.max_loop_cost, above(0, 1e12),
           "a loop may raise the optimised cost by at most this (chi-square, 6 dof)");
     v.key("max_loop_residual", g.max_loop_residual, above(0, 1e12),
