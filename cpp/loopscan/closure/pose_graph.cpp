@@ -6,7 +6,6 @@
 #include <string>
 
 #include <Eigen/Cholesky>
-#include <Eigen/LU>
 #include <ceres/ceres.h>
 
 namespace loopscan::closure {
@@ -25,7 +24,7 @@ struct Edge {
   int a = 0, b = 0;
   Eigen::Vector3d p_ab;
   Eigen::Quaterniond q_ab;
-  Eigen::Matrix<double, 6, 6> sqrt_info;  // upper triangular: r^T r = e^T Sigma^-1 e
+  Eigen::Matrix<double, 6, 6> sqrt_info;  // r = sqrt_info * e with r^T r = e^T Sigma^-1 e
   bool loop = false;
   bool active = true;
 };
@@ -202,13 +201,15 @@ struct PoseGraph::Impl {
     e.a = a, e.b = b, e.loop = loop;
     e.p_ab = T_a_b.translation();
     e.q_ab = Eigen::Quaterniond(T_a_b.rotation()).normalized();
-    const Eigen::LLT<Covariance6> positive(covariance);
-    const Eigen::LLT<Covariance6> llt(Covariance6(covariance.inverse()));
-    if (!covariance.allFinite() || positive.info() != Eigen::Success ||
-        llt.info() != Eigen::Success || !llt.matrixU().toDenseMatrix().allFinite()) {
+    // Sigma = L L^T, so L^-1 whitens: |L^-1 e|^2 = e^T Sigma^-1 e.
+    const Eigen::LLT<Covariance6> llt(covariance);
+    if (!covariance.allFinite() || llt.info() != Eigen::Success) {
       throw std::invalid_argument("pose graph: an edge covariance that is not positive definite");
     }
-    e.sqrt_info = llt.matrixU();
+    e.sqrt_info = llt.matrixL().solve(Covariance6::Identity());
+    if (!e.sqrt_info.allFinite()) {
+      throw std::invalid_argument("pose graph: an edge covariance that is not positive definite");
+    }
     return e;
   }
 };
@@ -321,6 +322,11 @@ std::size_t PoseGraph::size() const { return impl_->nodes.size(); }
 
 Eigen::Isometry3d PoseGraph::pose(int node) const {
   return to_pose(impl_->nodes.at(static_cast<std::size_t>(node)));
+}
+
+Eigen::Vector3d PoseGraph::position(int node) const {
+  const Node& n = impl_->nodes.at(static_cast<std::size_t>(node));
+  return Eigen::Vector3d(n.p[0], n.p[1], n.p[2]);
 }
 
 std::size_t PoseGraph::loop_count() const {

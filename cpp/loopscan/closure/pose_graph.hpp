@@ -79,6 +79,7 @@ class PoseGraph {
 
   std::size_t size() const;
   Eigen::Isometry3d pose(int node) const;  // current estimate, camera-to-world
+  Eigen::Vector3d position(int node) const;  // its translation (no rotation built)
   std::size_t loop_count() const;          // loops currently in the graph
   // Whitened residual norm of every loop in the graph, at the current estimate.
   std::vector<double> loop_residuals() const;
