@@ -292,6 +292,12 @@ TEST(LoopCloser, BadKeyframesAreRefused) {
   closure::LoopCloserConfig bad = closure::LoopCloserConfig::make(Method::ScanContext);
   bad.consistency.required = 0;
   EXPECT_THROW(closure::LoopCloser{bad}, std::invalid_argument);
+  bad = closure::LoopCloserConfig::make(Method::ScanContext);
+  bad.proximity.min_overlap = 1.5;
+  EXPECT_THROW(closure::LoopCloser{bad}, std::invalid_argument);
+  bad = closure::LoopCloserConfig::make(Method::ScanContext);
+  bad.proximity.base_radius_m = -1;
+  EXPECT_THROW(closure::LoopCloser{bad}, std::invalid_argument);
 }
 
 }  // namespace

@@ -69,6 +69,15 @@ void validate(const LoopCloserConfig& c) {
         "loop closer config: candidates in [1, 100], consistency required in [1, 100], window in "
         "[1, 1000], tolerances finite and > 0, min_keyframes_between_solves >= 0");
   }
+  const ProximityConfig& p = c.proximity;
+  if (p.candidates < 0 || p.candidates > 100 || !(p.base_radius_m >= 0) ||
+      !(p.radius_per_m >= 0 && p.radius_per_m <= 10) || !(p.max_radius_m >= 0) ||
+      !(p.max_radius_m <= 1e4) || !(p.base_radius_m <= 1e4) ||
+      !(p.min_overlap >= 0 && p.min_overlap <= 1)) {
+    throw std::invalid_argument(
+        "loop closer config: proximity candidates in [0, 100], radii in [0, 10000] m, "
+        "radius_per_m in [0, 10], min_overlap in [0, 1]");
+  }
 }
 
 LoopCloser::LoopCloser(const LoopCloserConfig& config)
@@ -162,43 +171,53 @@ std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id,
   std::vector<Proposal> out;
   if (p.candidates <= 0) return out;
   const std::size_t qi = pose_index_.at(keyframe_id);
-  const Eigen::Isometry3d T_world_query = graph_.pose(graph_node_[qi]);
-  const double since_loop = last_loop_path_m_ < 0 ? HUGE_VAL : path_m_[qi] - last_loop_path_m_;
+  const Eigen::Vector3d query_position = graph_.position(graph_node_[qi]);
+  const double since_loop = loop_paths_m_.empty() ? HUGE_VAL : path_m_[qi] - loop_paths_m_.back();
   const int query_run = run_of(qi);
   const long searchable = long(db_.size()) - long(config_.recognition.query.exclude_recent);
-  std::vector<std::pair<double, Proposal>> found;
+  // Positions first (every place, every keyframe); whole poses only for the places in range.
+  std::vector<std::pair<double, std::size_t>> found;  // distance, place index
   for (long i = 0; i < searchable; ++i) {
     const std::size_t index = std::size_t(i);
     const PlaceRef place = db_.place(index);
-    Eigen::Isometry3d T_world_place;
+    Eigen::Vector3d position;
     double path_between = HUGE_VAL;
     if (place.session == config_.recognition.session) {
       const std::size_t pi = pose_index_.at(place.keyframe);
       if (run_of(pi) != query_run) continue;  // not yet tied to the query's run
       if (run_[pi] == run_[qi]) path_between = path_m_[qi] - path_m_[pi];
-      T_world_place = graph_.pose(graph_node_[pi]);
+      position = graph_.position(graph_node_[pi]);
     } else {
-      if (map_run_ < 0 || root(map_run_) != query_run || !db_.pose(index)) continue;
-      T_world_place = isometry(*db_.pose(index)).inverse();
+      if (map_run_ < 0 || root(map_run_) != query_run) continue;
+      const std::optional<Pose3x4> T_cam_world = db_.pose(index);  // a copy: pose() returns one
+      if (!T_cam_world) continue;
+      position = -T_cam_world->leftCols<3>().transpose() * T_cam_world->col(3);
     }
     const double radius = std::min(
         p.max_radius_m, p.base_radius_m + p.radius_per_m * std::min(path_between, since_loop));
-    const double d = (T_world_place.translation() - T_world_query.translation()).norm();
+    const double d = (position - query_position).norm();
     if (!(d <= radius)) continue;
     bool descriptor_has_it = false;
     for (const Candidate& c : taken) descriptor_has_it |= c.index == index;
-    if (descriptor_has_it) continue;
+    if (!descriptor_has_it) found.push_back({d, index});
+  }
+  const std::size_t n = std::min(found.size(), std::size_t(p.candidates));
+  std::partial_sort(found.begin(), found.begin() + long(n), found.end());
+  const Eigen::Isometry3d T_world_query = graph_.pose(graph_node_[qi]);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t index = found[k].second;
+    const PlaceRef place = db_.place(index);
+    const Eigen::Isometry3d T_world_place =
+        place.session == config_.recognition.session
+            ? graph_.pose(graph_node_[pose_index_.at(place.keyframe)])
+            : isometry(*db_.pose(index)).inverse();
     Proposal proposal;
     proposal.candidate.place = place;
     proposal.candidate.index = index;
     proposal.candidate.distance = std::numeric_limits<double>::quiet_NaN();
     proposal.predicted = T_world_query.inverse() * T_world_place;
-    found.push_back({d, proposal});
+    out.push_back(proposal);
   }
-  const std::size_t n = std::min(found.size(), std::size_t(p.candidates));
-  std::partial_sort(found.begin(), found.begin() + long(n), found.end(),
-                    [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (std::size_t k = 0; k < n; ++k) out.push_back(found[k].second);
   return out;
 }
 
@@ -331,7 +350,6 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
     const int a = graph_node_[pose_index_.at(loop.query)];
     if (!anchored_ && loop.match.session != config_.recognition.session) anchor(loop, a);
     const int b = match_node(loop);
-    last_loop_path_m_ = path_m_[pose_index_.at(loop.query)];
     const int ra = run_of(pose_index_.at(loop.query));
     const int rb = loop.match.session == config_.recognition.session
                        ? run_of(pose_index_.at(loop.match.keyframe))

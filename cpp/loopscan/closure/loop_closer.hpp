@@ -148,7 +148,6 @@ class LoopCloser {
   std::vector<int> run_;                             // per input pose: its VO run
   std::vector<int> run_parent_;                      // union-find over runs joined by loops
   int map_run_ = -1;                                 // the saved map's places, as one run
-  double last_loop_path_m_ = -1;                     // path_m_ at the last accepted loop
   std::vector<double> loop_paths_m_;                 // path_m_ of each loop edge's query
   std::unordered_map<std::size_t, int> map_node_;    // saved-map place -> fixed graph node
   bool anchored_ = true;

@@ -228,7 +228,7 @@ void visit_closure(V& v, Configuration& c) {
     v.key("geometry_m", u.geometry_m, closed(0, 1000),
           "scaled by 1 / sqrt(3 lambda) in each direction the surfaces constrain (lambda)");
     v.key("rotation_deg", u.rotation_deg, above(0, 1000), "");
-    v.key("correlation_length_m", u.correlation_length_m, closed(0, 1e6),
+    v.key("correlation_length_m", u.correlation_length_m, closed(0, 1000),
           "the k-th loop within this much travel gets k times the covariance");
   });
   v.section("pose_graph", "the SE(3) pose graph (Ceres)", [&] {
