@@ -22,8 +22,6 @@ namespace {
 
 using config_keys::Range;
 
-constexpr const char* kMethodChoices = "sc, m2dp, delight, gist or bow";
-
 constexpr std::uintmax_t kMaxConfigBytes = 1 << 20;  // every key with comments is ~25 KB
 
 // Names of the enumerated keys' values, both ways.
@@ -274,7 +272,7 @@ class Reader {
     try {
       parse_method_name(n->Scalar(), c.method, c.image_baseline);
     } catch (const std::invalid_argument&) {
-      fail(*n, dotted(name), kMethodChoices, n->Scalar());
+      fail(*n, dotted(name), method_choices(), n->Scalar());
     }
   }
 
@@ -457,7 +455,7 @@ FileChoice read_file_choice(const std::string& path) {
     } catch (const std::invalid_argument&) {
       throw io::InputError(
           path, line_of(kv.second),
-          std::string(name == "method" ? kMethodChoices : EnumNames<Mode>::kChoices) + " for " +
+          std::string(name == "method" ? method_choices() : EnumNames<Mode>::kChoices) + " for " +
               name + ", got '" + value + "'");
     }
   }

@@ -42,11 +42,26 @@ Configuration Configuration::defaults(Method method, Mode mode) {
 }
 
 Configuration Configuration::defaults(const std::string& method, Mode mode) {
-  Configuration named;
-  parse_method_name(method, named.method, named.image_baseline);
-  Configuration c = defaults(named.method, mode);
-  c.image_baseline = named.image_baseline;
+  Method m = Method::ScanContext;
+  std::optional<ImageBaseline> image;
+  parse_method_name(method, m, image);
+  Configuration c = defaults(m, mode);
+  c.image_baseline = image;
   return c;
+}
+
+const std::vector<std::string>& method_names() {
+  static const std::vector<std::string> names = {"sc", "m2dp", "delight", "gist", "bow"};
+  return names;
+}
+
+std::string method_choices() {
+  const std::vector<std::string>& names = method_names();
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  }
+  return out;
 }
 
 std::string method_name(const Configuration& c) {
@@ -63,8 +78,8 @@ void parse_method_name(const std::string& name, Method& method,
   try {
     method = parse_method(name);
   } catch (const std::invalid_argument&) {
-    std::string message = "unknown method '" + name + "' (expected sc, m2dp, delight, gist or bow";
-    const std::string guess = io::closest_name(name, {"sc", "m2dp", "delight", "gist", "bow"});
+    std::string message = "unknown method '" + name + "' (expected " + method_choices();
+    const std::string guess = io::closest_name(name, method_names());
     if (!guess.empty()) message += "; did you mean '" + guess + "'?";
     throw std::invalid_argument(message + ")");
   }

@@ -104,6 +104,8 @@ struct Configuration {
 std::string method_name(const Configuration& c);
 void parse_method_name(const std::string& name, Method& method,
                        std::optional<ImageBaseline>& image_baseline);
+const std::vector<std::string>& method_names();  // sc, m2dp, delight, gist, bow
+std::string method_choices();                    // "sc, m2dp, delight, gist or bow"
 
 // Throws std::invalid_argument naming the first key (as in the file: "closure.candidates") whose
 // value is out of its range or contradicts the mode (reference mode is the paper's forward-only
