@@ -56,6 +56,8 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
   EXPECT_GT(m["loops"]["revisit_keyframes"].get<int>(), 10);
   EXPECT_GT(m["loops"]["revisits_closed"].get<int>(), 0);
   EXPECT_LE(m["loops"]["revisits_closed"].get<int>(), m["loops"]["revisit_keyframes"].get<int>());
+  // The same graph given every revisit's true relative pose undoes most of the drift.
+  EXPECT_LT(m["ate_given_true_loops_m"].get<double>(), 0.5 * m["ate_before_m"].get<double>());
   for (const char* key : {"scan", "describe", "cloud", "query", "verify", "graph", "total"}) {
     EXPECT_TRUE(m["ms_per_keyframe"].contains(key)) << key;
   }
@@ -102,6 +104,8 @@ TEST(CliClose, ASecondSessionIsPlacedInTheSavedMap) {
   EXPECT_EQ(m["session"].get<int>(), 1);
   EXPECT_EQ(m["loops"]["false_accepted"].get<int>(), 0);
   EXPECT_GT(m["map_places"].get<int>(), 250);  // both sessions
+  // True loops into the (corrected) map hold the session in the map's frame.
+  EXPECT_LT(m["ate_given_true_loops_m"].get<double>(), m["ate_before_m"].get<double>());
 }
 
 TEST(CliClose, BadInputIsRefusedWithNothingWritten) {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "cli/progress.hpp"
@@ -39,40 +40,102 @@ Eigen::Isometry3d gt_pose(const GroundTruth& gt, int id) {
 
 double mean_ms(double total, int count) { return count > 0 ? total / count : 0.0; }
 
-struct Recall {
-  int revisits = 0, closed = 0;
+Eigen::Isometry3d orthonormal(const Eigen::Isometry3d& T) {
+  Eigen::Isometry3d out = T;
+  out.linear() = Eigen::Quaterniond(T.rotation()).normalized().toRotationMatrix();
+  return out;
+}
+
+// A described keyframe of this session with a true revisit: a place of another session, or of
+// this one added at least 100 places earlier, within `within_m`; `partner` is the nearest one.
+struct Revisit {
+  int keyframe = 0;
+  std::size_t partner = 0;  // index into the run's map
 };
 
-// Described keyframes of this session with a true revisit (a place of another session, or of
-// this one added at least 100 places earlier, within `within_m`), and those of them that got
-// a true accepted loop.
-Recall revisit_recall(const ClosureRun& run, const GroundTruth& gt, const GroundTruth& map_gt,
-                      double within_m, const std::set<int>& closed) {
-  std::vector<Eigen::Vector3d> mine, others;
-  std::vector<int> mine_ids;
+std::vector<Revisit> true_revisits(const ClosureRun& run, const GroundTruth& gt,
+                                   const GroundTruth& map_gt, double within_m) {
+  std::vector<Eigen::Vector3d> position(run.map.size());
+  std::vector<std::size_t> mine, others;
   for (std::size_t i = 0; i < run.map.size(); ++i) {
     const PlaceRef p = run.map.place(i);
     const GroundTruth& g = p.session == run.session ? gt : map_gt;
     if (p.keyframe < 0 || std::size_t(p.keyframe) >= g.positions.size()) continue;
-    if (p.session == run.session) {
-      mine.push_back(g.positions[std::size_t(p.keyframe)]);
-      mine_ids.push_back(p.keyframe);
+    position[i] = g.positions[std::size_t(p.keyframe)];
+    (p.session == run.session ? mine : others).push_back(i);
+  }
+  std::vector<Revisit> out;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    double best = within_m * within_m;
+    std::size_t partner = run.map.size();
+    const auto consider = [&](std::size_t j) {
+      const double d2 = (position[mine[i]] - position[j]).squaredNorm();
+      if (d2 <= best) best = d2, partner = j;
+    };
+    for (std::size_t j : others) consider(j);
+    for (std::size_t j = 0; j + 100 <= i; ++j) consider(mine[j]);
+    if (partner < run.map.size()) out.push_back({run.map.place(mine[i]).keyframe, partner});
+  }
+  return out;
+}
+
+// What the loops could give: the pose graph of `config` over the VO's keyframes, given one loop
+// per true revisit with its ground-truth relative pose (0.1 m, 0.5 degrees); the trajectory's
+// ATE after the solve. Places of a saved map are fixed at their map poses. NaN without ground-
+// truth orientations (RobotCar GPS).
+double ate_given_true_loops(const ClosureRun& run, const GroundTruth& gt, const GroundTruth& map_gt,
+                            const std::vector<Revisit>& revisits,
+                            const closure::PoseGraphConfig& config) {
+  if (gt.poses.empty() || map_gt.poses.empty() || run.input.empty()) return std::nan("");
+  closure::PoseGraph graph(config);
+  std::map<int, int> node_of;  // keyframe id -> node
+  for (std::size_t i = 0; i < run.input.size(); ++i) {
+    const Eigen::Isometry3d T = orthonormal(world_cam(run.input[i]));
+    const bool reset = std::binary_search(run.resets.begin(), run.resets.end(), run.input[i].id);
+    if (i == 0 || reset) {
+      node_of[run.input[i].id] = graph.add_node(T);
     } else {
-      others.push_back(g.positions[std::size_t(p.keyframe)]);
+      const Eigen::Isometry3d odometry = orthonormal(world_cam(run.input[i - 1])).inverse() * T;
+      node_of[run.input[i].id] = graph.add_node(T, &odometry);
     }
   }
-  Recall r;
-  const double w2 = within_m * within_m;
-  for (std::size_t i = 0; i < mine.size(); ++i) {
-    bool revisit = false;
-    for (std::size_t j = 0; j < others.size() && !revisit; ++j)
-      revisit = (mine[i] - others[j]).squaredNorm() <= w2;
-    for (std::size_t j = 0; j + 100 <= i && !revisit; ++j)
-      revisit = (mine[i] - mine[j]).squaredNorm() <= w2;
-    r.revisits += revisit;
-    r.closed += revisit && closed.count(mine_ids[i]);
+  closure::Covariance6 covariance = closure::Covariance6::Zero();
+  const double rotation_rad = 0.5 * M_PI / 180.0;
+  covariance.diagonal() << 0.01, 0.01, 0.01, rotation_rad * rotation_rad,
+      rotation_rad * rotation_rad, rotation_rad * rotation_rad;
+  bool in_map_frame = false;
+  std::map<std::size_t, int> fixed_node;  // map place -> node
+  for (const Revisit& r : revisits) {
+    const PlaceRef p = run.map.place(r.partner);
+    const bool own = p.session == run.session;
+    const GroundTruth& other = own ? gt : map_gt;
+    const Eigen::Isometry3d T_query_match =
+        gt_pose(gt, r.keyframe).inverse() * gt_pose(other, p.keyframe);
+    const int a = node_of.at(r.keyframe);
+    int b;
+    if (own) {
+      b = node_of.at(p.keyframe);
+    } else if (const auto it = fixed_node.find(r.partner); it != fixed_node.end()) {
+      b = it->second;
+    } else {
+      Eigen::Isometry3d T_map_match = Eigen::Isometry3d::Identity();
+      T_map_match.matrix().topRows<3>() = *run.map.pose(r.partner);
+      T_map_match = orthonormal(T_map_match).inverse();
+      if (!in_map_frame) {  // start the session in the map's frame, as the closer's anchoring
+        graph.transform(T_map_match * T_query_match.inverse() * graph.pose(a).inverse());
+        in_map_frame = true;
+      }
+      b = fixed_node[r.partner] = graph.add_fixed_node(T_map_match);
+    }
+    graph.add_loop_unsolved(a, b, T_query_match, &covariance);
   }
-  return r;
+  graph.optimise();
+  std::vector<Eigen::Vector3d> ref, after;
+  for (const KeyframePose& k : run.input) {
+    ref.push_back(gt.positions[std::size_t(k.id)]);
+    after.push_back(graph.position(node_of.at(k.id)));
+  }
+  return eval::aligned_rmse(ref, after);
 }
 
 }  // namespace
@@ -104,6 +167,7 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
   closer.finish();
   ClosureRun run;
   run.input = poses;
+  run.resets = resets;
   run.closed = closer.corrected_poses();
   run.loops = closer.loops();
   run.times = closer.times();
@@ -240,11 +304,16 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
     m["loops"]["true_accepted"] = true_accepted;
     m["loops"]["false_accepted"] = accepted - true_accepted;
     m["loops"]["precision"] = accepted > 0 ? double(true_accepted) / accepted : 1.0;
-    const Recall r =
-        revisit_recall(run, *gt, map_gt ? *map_gt : *gt, true_within_m, accepted_queries);
-    m["loops"]["revisit_keyframes"] = r.revisits;
-    m["loops"]["revisits_closed"] = r.closed;
-    m["loops"]["recall"] = r.revisits > 0 ? double(r.closed) / r.revisits : 0.0;
+    const GroundTruth& others = map_gt ? *map_gt : *gt;
+    const std::vector<Revisit> revisits = true_revisits(run, *gt, others, true_within_m);
+    int closed = 0;
+    for (const Revisit& r : revisits) closed += accepted_queries.count(r.keyframe) > 0;
+    m["loops"]["revisit_keyframes"] = revisits.size();
+    m["loops"]["revisits_closed"] = closed;
+    m["loops"]["recall"] = revisits.empty() ? 0.0 : double(closed) / double(revisits.size());
+    const double reachable =
+        ate_given_true_loops(run, *gt, others, revisits, loop_closer_config(c).graph);
+    if (reachable == reachable) m["ate_given_true_loops_m"] = reachable;
     const auto median = [](std::vector<double> v) {
       if (v.empty()) return std::nan("");
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());

@@ -15,6 +15,7 @@ namespace loopscan::cli {
 
 struct ClosureRun {
   std::vector<KeyframePose> input;   // the VO's poses (world-to-camera)
+  std::vector<int> resets;           // sorted ids of the keyframes where the VO restarted
   std::vector<KeyframePose> closed;  // corrected, same ids and order
   std::vector<closure::Loop> loops;  // every verification
   closure::StageTimes times;
