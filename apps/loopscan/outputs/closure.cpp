@@ -14,6 +14,7 @@
 #include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/eval/loop_metrics.hpp"
 #include "loopscan/eval/odometry_metrics.hpp"
+#include "loopscan/eval/protocol.hpp"
 #include "loopscan/io/atomic_file.hpp"
 #include "loopscan/io/database_file.hpp"
 #include "loopscan/io/errors.hpp"
@@ -40,14 +41,9 @@ Eigen::Isometry3d gt_pose(const GroundTruth& gt, int id) {
 
 double mean_ms(double total, int count) { return count > 0 ? total / count : 0.0; }
 
-Eigen::Isometry3d orthonormal(const Eigen::Isometry3d& T) {
-  Eigen::Isometry3d out = T;
-  out.linear() = Eigen::Quaterniond(T.rotation()).normalized().toRotationMatrix();
-  return out;
-}
-
 // A described keyframe of this session with a true revisit: a place of another session, or of
-// this one added at least 100 places earlier, within `within_m`; `partner` is the nearest one.
+// this one added at least 100 places earlier, within `within_m` (the evaluation protocol's
+// ground truth); `partner` is the nearest one.
 struct Revisit {
   int keyframe = 0;
   std::size_t partner = 0;  // index into the run's map
@@ -55,62 +51,57 @@ struct Revisit {
 
 std::vector<Revisit> true_revisits(const ClosureRun& run, const GroundTruth& gt,
                                    const GroundTruth& map_gt, double within_m) {
-  std::vector<Eigen::Vector3d> position(run.map.size());
-  std::vector<std::size_t> mine, others;
+  std::vector<Eigen::Vector3d> mine, others;
+  std::vector<std::size_t> mine_index, others_index;  // into the run's map
   for (std::size_t i = 0; i < run.map.size(); ++i) {
     const PlaceRef p = run.map.place(i);
-    const GroundTruth& g = p.session == run.session ? gt : map_gt;
+    const bool own = p.session == run.session;
+    const GroundTruth& g = own ? gt : map_gt;
     if (p.keyframe < 0 || std::size_t(p.keyframe) >= g.positions.size()) continue;
-    position[i] = g.positions[std::size_t(p.keyframe)];
-    (p.session == run.session ? mine : others).push_back(i);
+    (own ? mine : others).push_back(g.positions[std::size_t(p.keyframe)]);
+    (own ? mine_index : others_index).push_back(i);
   }
+  const eval::GroundTruth earlier = eval::compute_ground_truth(mine, mine, {within_m, 100, true});
+  const eval::GroundTruth elsewhere = eval::compute_ground_truth(mine, others, {within_m, 0});
   std::vector<Revisit> out;
   for (std::size_t i = 0; i < mine.size(); ++i) {
-    double best = within_m * within_m;
-    std::size_t partner = run.map.size();
-    const auto consider = [&](std::size_t j) {
-      const double d2 = (position[mine[i]] - position[j]).squaredNorm();
-      if (d2 <= best) best = d2, partner = j;
-    };
-    for (std::size_t j : others) consider(j);
-    for (std::size_t j = 0; j + 100 <= i; ++j) consider(mine[j]);
-    if (partner < run.map.size()) out.push_back({run.map.place(mine[i]).keyframe, partner});
+    const auto d2 = [&](const Eigen::Vector3d& p) { return (mine[i] - p).squaredNorm(); };
+    const int e = earlier.is_loop[i] ? earlier.nearest[i] : -1;
+    const int o = elsewhere.is_loop[i] ? elsewhere.nearest[i] : -1;
+    if (e < 0 && o < 0) continue;
+    const bool cross = o >= 0 && (e < 0 || d2(others[std::size_t(o)]) < d2(mine[std::size_t(e)]));
+    out.push_back({run.map.place(mine_index[i]).keyframe,
+                   cross ? others_index[std::size_t(o)] : mine_index[std::size_t(e)]});
   }
   return out;
 }
 
-// What the loops could give: the pose graph of `config` over the VO's keyframes, given one loop
-// per true revisit with its ground-truth relative pose (0.1 m, 0.5 degrees); the trajectory's
-// ATE after the solve. Places of a saved map are fixed at their map poses. NaN without ground-
-// truth orientations (RobotCar GPS).
+// What the loops could give: the pose graph of `config` over the VO's keyframes (orthonormalised
+// as the closer takes them), given one loop per true revisit with its ground-truth relative pose
+// at 0.1 m and 0.5 degrees; the trajectory's ATE after the solve. Places of a saved map are
+// fixed at their map poses. NaN without ground-truth orientations (RobotCar GPS).
 double ate_given_true_loops(const ClosureRun& run, const GroundTruth& gt, const GroundTruth& map_gt,
-                            const std::vector<Revisit>& revisits,
-                            const closure::PoseGraphConfig& config) {
+                            const std::vector<Revisit>& revisits, closure::PoseGraphConfig config) {
   if (gt.poses.empty() || map_gt.poses.empty() || run.input.empty()) return std::nan("");
+  config.loop_translation_m = 0.1;
+  config.loop_rotation_deg = 0.5;
   closure::PoseGraph graph(config);
   std::map<int, int> node_of;  // keyframe id -> node
+  Eigen::Isometry3d previous = Eigen::Isometry3d::Identity();
   for (std::size_t i = 0; i < run.input.size(); ++i) {
-    const Eigen::Isometry3d T = orthonormal(world_cam(run.input[i]));
+    const Eigen::Isometry3d T = world_cam(closure::orthonormalised(run.input[i]));
     const bool reset = std::binary_search(run.resets.begin(), run.resets.end(), run.input[i].id);
-    if (i == 0 || reset) {
-      node_of[run.input[i].id] = graph.add_node(T);
-    } else {
-      const Eigen::Isometry3d odometry = orthonormal(world_cam(run.input[i - 1])).inverse() * T;
-      node_of[run.input[i].id] = graph.add_node(T, &odometry);
-    }
+    const Eigen::Isometry3d odometry = previous.inverse() * T;
+    node_of[run.input[i].id] = graph.add_node(T, i == 0 || reset ? nullptr : &odometry);
+    previous = T;
   }
-  closure::Covariance6 covariance = closure::Covariance6::Zero();
-  const double rotation_rad = 0.5 * M_PI / 180.0;
-  covariance.diagonal() << 0.01, 0.01, 0.01, rotation_rad * rotation_rad,
-      rotation_rad * rotation_rad, rotation_rad * rotation_rad;
   bool in_map_frame = false;
   std::map<std::size_t, int> fixed_node;  // map place -> node
   for (const Revisit& r : revisits) {
     const PlaceRef p = run.map.place(r.partner);
     const bool own = p.session == run.session;
-    const GroundTruth& other = own ? gt : map_gt;
     const Eigen::Isometry3d T_query_match =
-        gt_pose(gt, r.keyframe).inverse() * gt_pose(other, p.keyframe);
+        gt_pose(gt, r.keyframe).inverse() * gt_pose(own ? gt : map_gt, p.keyframe);
     const int a = node_of.at(r.keyframe);
     int b;
     if (own) {
@@ -118,16 +109,16 @@ double ate_given_true_loops(const ClosureRun& run, const GroundTruth& gt, const 
     } else if (const auto it = fixed_node.find(r.partner); it != fixed_node.end()) {
       b = it->second;
     } else {
-      Eigen::Isometry3d T_map_match = Eigen::Isometry3d::Identity();
-      T_map_match.matrix().topRows<3>() = *run.map.pose(r.partner);
-      T_map_match = orthonormal(T_map_match).inverse();
+      KeyframePose place;
+      place.T_cam_world = *run.map.pose(r.partner);
+      const Eigen::Isometry3d T_map_match = world_cam(closure::orthonormalised(place));
       if (!in_map_frame) {  // start the session in the map's frame, as the closer's anchoring
         graph.transform(T_map_match * T_query_match.inverse() * graph.pose(a).inverse());
         in_map_frame = true;
       }
       b = fixed_node[r.partner] = graph.add_fixed_node(T_map_match);
     }
-    graph.add_loop_unsolved(a, b, T_query_match, &covariance);
+    graph.add_loop_unsolved(a, b, T_query_match);
   }
   graph.optimise();
   std::vector<Eigen::Vector3d> ref, after;

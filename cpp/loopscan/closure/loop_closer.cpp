@@ -21,9 +21,10 @@ Eigen::Isometry3d isometry(const Pose3x4& T) {
   return out;
 }
 
-// The nearest rotation (SVD): poses written with a few digits, or chained from such, are not
-// quite orthonormal, and a rigid inverse of them misplaces points far from the origin (1e-4
-// of non-orthonormality at 1 km: 0.1 m a pose, compounding along the odometry).
+double rotation_angle(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
+
+}  // namespace
+
 KeyframePose orthonormalised(KeyframePose k) {
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(Eigen::Matrix3d(k.T_cam_world.leftCols<3>()),
                                               Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -36,10 +37,6 @@ KeyframePose orthonormalised(KeyframePose k) {
   k.T_cam_world.leftCols<3>() = R;
   return k;
 }
-
-double rotation_angle(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
-
-}  // namespace
 
 LoopCloserConfig LoopCloserConfig::make(Method method, Mode mode, double range_m) {
   LoopCloserConfig c;

@@ -15,6 +15,12 @@
 
 namespace loopscan::closure {
 
+// The pose with its rotation replaced by the nearest rotation (SVD): poses written with a few
+// digits, or chained from such, are not quite orthonormal, and a rigid inverse of them
+// misplaces points far from the origin (1e-4 of non-orthonormality at 1 km: 0.1 m a pose,
+// compounding along the odometry). The closer takes every input pose through it.
+KeyframePose orthonormalised(KeyframePose keyframe);
+
 struct ConsistencyConfig {
   int required = 2;  // verified loops that agree, this one included
   int window = 4;    // ... among the last `window` described keyframes
@@ -26,9 +32,9 @@ struct ConsistencyConfig {
 // the descriptor misses (the other driving direction, another lane or season) is still found
 // while the estimate is good enough, and every loop makes it better.
 struct ProximityConfig {
-  int candidates = 2;           // nearest places verified per keyframe (0: descriptor candidates only)
-  double base_radius_m = 8.0;   // search radius just after a loop or at the start of a VO run ...
-  double radius_per_m = 0.02;   // ... growing with the path travelled since (the VO's drift)
+  int candidates = 2;  // nearest places verified per keyframe (0: descriptor candidates only)
+  double base_radius_m = 8.0;  // search radius just after a loop or at the start of a VO run ...
+  double radius_per_m = 0.02;  // ... growing with the path travelled since (the VO's drift)
   double max_radius_m = 30.0;
   // A place where the estimate puts the query is likely the same place before any geometry is
   // seen (far likelier than the best of thousands of descriptor matches), so less overlap
