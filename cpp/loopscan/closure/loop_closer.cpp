@@ -171,6 +171,7 @@ std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id,
   const Eigen::Vector3d query_position = graph_.position(graph_node_[qi]);
   const double since_loop = loop_paths_m_.empty() ? HUGE_VAL : path_m_[qi] - loop_paths_m_.back();
   const int query_run = run_of(qi);
+  const bool map_tied = map_run_ >= 0 && root(map_run_) == query_run;
   const long searchable = long(db_.size()) - long(config_.recognition.query.exclude_recent);
   // Positions first (every place, every keyframe); whole poses only for the places in range.
   std::vector<std::pair<double, std::size_t>> found;  // distance, place index
@@ -185,7 +186,7 @@ std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id,
       if (run_[pi] == run_[qi]) path_between = path_m_[qi] - path_m_[pi];
       position = graph_.position(graph_node_[pi]);
     } else {
-      if (map_run_ < 0 || root(map_run_) != query_run) continue;
+      if (!map_tied) continue;
       const std::optional<Pose3x4> T_cam_world = db_.pose(index);  // a copy: pose() returns one
       if (!T_cam_world) continue;
       position = -T_cam_world->leftCols<3>().transpose() * T_cam_world->col(3);
