@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <random>
 
 #include "loopscan/closure/pose_graph.hpp"
@@ -82,7 +83,7 @@ void BM_Verify(benchmark::State& state) {
   closure::Loop loop;
   for (auto _ : state) {
     const closure::TargetCloud target(p.voxel[q]);  // normals fitted afresh each time
-    loop = closure::verify_candidate(target, place, {0.0, M_PI});
+    loop = closure::verify_candidate(target, place, {closure::yaw_rotation(0.0), closure::yaw_rotation(M_PI)});
     benchmark::DoNotOptimize(loop);
   }
   state.SetLabel(state.range(0) == 1 ? "revisit" : "wrong place");
@@ -91,6 +92,41 @@ void BM_Verify(benchmark::State& state) {
   state.counters["iterations"] = loop.iterations;
 }
 BENCHMARK(BM_Verify)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+
+// A nearby place (the revisit, its predicted pose 5 m off along the track): starts from the
+// bird's-eye search (Arg 1, the closer's way) or from the
+// prediction shifted along the track (Arg 0).
+void BM_VerifyNearby(benchmark::State& state) {
+  const auto [q, m] = pair_of(true);
+  const Places& p = places();
+  const closure::PlaceCloud place = closure::to_place_cloud(closure::TargetCloud(p.voxel[m]));
+  Eigen::Isometry3d predicted = Eigen::Isometry3d::Identity();
+  predicted.translation().z() = 5.0;
+  std::optional<closure::BirdsEyeGrid> grid;  // the closer builds it with the query's place cloud
+  if (state.range(0) == 1) grid.emplace(closure::to_place_cloud(closure::TargetCloud(p.voxel[q])));
+  closure::Loop loop;
+  for (auto _ : state) {
+    const closure::TargetCloud target(p.voxel[q]);
+    loop = closure::verify_candidate(target, place, {predicted}, {}, grid ? &*grid : nullptr);
+    benchmark::DoNotOptimize(loop);
+  }
+  state.SetLabel(state.range(0) == 1 ? "bird's-eye starts" : "along-track starts");
+  state.counters["overlap"] = loop.overlap;
+  state.counters["accepted"] = loop.accepted();
+  state.counters["iterations"] = loop.iterations;
+}
+BENCHMARK(BM_VerifyNearby)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+
+void BM_BirdsEyeSearch(benchmark::State& state) {  // one guess, the default window
+  const auto [q, m] = pair_of(true);
+  const Places& p = places();
+  const closure::PlaceCloud place = closure::to_place_cloud(closure::TargetCloud(p.voxel[m]));
+  const closure::BirdsEyeGrid grid(closure::to_place_cloud(closure::TargetCloud(p.voxel[q])));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(closure::birds_eye_search(grid, place, {Eigen::Isometry3d::Identity()}));
+  }
+}
+BENCHMARK(BM_BirdsEyeSearch)->Unit(benchmark::kMillisecond);
 
 // A drifted route of n keyframes 2 m apart around blocks of 200 m, driven twice; loops join
 // the second lap to the first every 5 keyframes.

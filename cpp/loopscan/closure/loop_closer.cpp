@@ -219,7 +219,8 @@ std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id,
   return out;
 }
 
-std::vector<Loop> LoopCloser::verify(const TargetCloud& query, int keyframe_id,
+std::vector<Loop> LoopCloser::verify(const TargetCloud& query, const BirdsEyeGrid* birds_eye,
+                                     int keyframe_id,
                                      const std::vector<Proposal>& proposals,
                                      std::size_t& last_place_index) {
   std::vector<Loop> out;
@@ -230,7 +231,12 @@ std::vector<Loop> LoopCloser::verify(const TargetCloud& query, int keyframe_id,
         proposal.predicted ? std::vector<Eigen::Isometry3d>{*proposal.predicted} : yaw_guesses(c);
     VerifyConfig verify_config = config_.verify;
     if (proposal.predicted) verify_config.min_overlap = config_.proximity.min_overlap;
-    Loop loop = verify_candidate(query, clouds_[c.index], guesses, verify_config);
+    // The bird's-eye search seeds nearby places only: their predicted pose, which the loop
+    // must agree with, bounds it. Around a descriptor candidate, which carries no position, it
+    // finds slid alignments of a repeating street as readily as the true one (on the reverse
+    // route, places 15 m away aligned 7 m slid and passed).
+    const BirdsEyeGrid* grid = proposal.predicted ? birds_eye : nullptr;
+    Loop loop = verify_candidate(query, clouds_[c.index], guesses, verify_config, grid);
     loop.nearby = proposal.predicted.has_value();
     loop.query = keyframe_id;
     loop.match = c.place;
@@ -298,9 +304,13 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
         describe(config_.recognition.method, scan, config_.recognition.descriptors, &place.frame);
   }
   std::optional<TargetCloud> target;
+  PlaceCloud place_cloud;
+  std::optional<BirdsEyeGrid> birds_eye;
   {
     const ScopedTimer timer(times_.cloud);
     target.emplace(voxel_cloud(raw_, config_.cloud), config_.normals);
+    place_cloud = to_place_cloud(*target);
+    if (config_.verify.birds_eye.enabled) birds_eye.emplace(place_cloud, config_.verify.birds_eye);
   }
   out.described = true;
   ++described_;
@@ -316,10 +326,11 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
     std::size_t index = 0;  // database place of the last verification
     std::vector<Proposal> proposals;
     for (const Candidate& c : out.candidates) proposals.push_back({c, std::nullopt});
-    out.verified = verify(*target, keyframe.id, proposals, index);
+    const BirdsEyeGrid* grid = birds_eye ? &*birds_eye : nullptr;
+    out.verified = verify(*target, grid, keyframe.id, proposals, index);
     if (out.verified.empty() || out.verified.back().verdict != Verdict::Accepted) {
       const std::vector<Loop> nearby =
-          verify(*target, keyframe.id, nearby_places(keyframe.id, out.candidates), index);
+          verify(*target, grid, keyframe.id, nearby_places(keyframe.id, out.candidates), index);
       out.verified.insert(out.verified.end(), nearby.begin(), nearby.end());
     }
     if (!out.verified.empty()) {
@@ -337,10 +348,7 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
   // 6. Join the map.
   db_.add({config_.recognition.session, keyframe.id}, place,
           input_poses_[pose_index_.at(keyframe.id)].T_cam_world);  // orthonormalised
-  {
-    const ScopedTimer timer(times_.cloud);
-    clouds_.push_back(to_place_cloud(*target));
-  }
+  clouds_.push_back(std::move(place_cloud));
   // 7. Loop edges, and a solve when the revisit is new (or enough keyframes passed).
   const ScopedTimer timer(times_.graph);
   for (Loop& loop : out.accepted) {

@@ -131,7 +131,7 @@ class LoopCloser {
     std::optional<Eigen::Isometry3d> predicted;  // T_query_match from the estimate (nearby places)
   };
   std::vector<Proposal> nearby_places(int keyframe_id, const std::vector<Candidate>& taken);
-  std::vector<Loop> verify(const TargetCloud& query, int keyframe_id,
+  std::vector<Loop> verify(const TargetCloud& query, const BirdsEyeGrid* birds_eye, int keyframe_id,
                            const std::vector<Proposal>& proposals, std::size_t& last_place_index);
   int root(int run);  // the representative of the runs joined by loops
   int run_of(std::size_t pose_index) { return root(run_[pose_index]); }

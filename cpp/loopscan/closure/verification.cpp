@@ -24,6 +24,7 @@ const char* to_string(Verdict v) {
 
 void validate(const VerifyConfig& c) {
   validate(c.icp);
+  validate(c.birds_eye);
   if (c.min_points < 3 || c.min_points > (1 << 22) || !(c.min_overlap >= 0 && c.min_overlap <= 1) ||
       !(c.max_rmse_m > 0 && c.max_rmse_m <= 100) ||
       !(c.min_translation_constraint >= 0 && c.min_translation_constraint <= 1) ||
@@ -72,12 +73,6 @@ Covariance6 loop_covariance(const Loop& loop, const LoopUncertaintyConfig& c) {
   return out;
 }
 
-Eigen::Isometry3d yaw_rotation(double yaw_rad) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d(0, -1, 0)).toRotationMatrix();
-  return T;
-}
-
 std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& c) {
   // (A mirrored match's yaw already accounts for the reflection: starting also from the
   // reflected yaw cost 20 % more time and no loop on the simulated drives.)
@@ -90,7 +85,8 @@ std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& c) {
 }
 
 Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
-                      const std::vector<Eigen::Isometry3d>& guesses, const VerifyConfig& config) {
+                      const std::vector<Eigen::Isometry3d>& guesses, const VerifyConfig& config,
+                      const BirdsEyeGrid* birds_eye) {
   validate(config);
   Loop loop;
   if (int(query.size()) < config.min_points || int(place.points.size()) < config.min_points ||
@@ -98,13 +94,19 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
     loop.verdict = Verdict::FewPoints;
     return loop;
   }
-  std::vector<Eigen::Isometry3d> starts;
-  const double a = config.along_track_seed_m;
-  for (double along : {0.0, a, -a, 2 * a, -2 * a, 3 * a, -3 * a}) {
-    for (const Eigen::Isometry3d& guess : guesses) {
-      Eigen::Isometry3d T = guess;
-      T.translation() += Eigen::Vector3d(0, 0, along);
-      starts.push_back(T);
+  std::vector<Eigen::Isometry3d> starts = guesses;
+  if (birds_eye != nullptr) {
+    for (const BirdsEyePose& p : birds_eye_search(*birds_eye, place, guesses)) {
+      starts.push_back(p.T_query_place);
+    }
+  } else {
+    const double a = config.along_track_seed_m;
+    for (double along : {a, -a, 2 * a, -2 * a, 3 * a, -3 * a}) {
+      for (const Eigen::Isometry3d& guess : guesses) {
+        Eigen::Isometry3d T = guess;
+        T.translation() += Eigen::Vector3d(0, 0, along);
+        starts.push_back(T);
+      }
     }
   }
   // Screen every start with the coarse stage on a quarter of the points, refine the best.

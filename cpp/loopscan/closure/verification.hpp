@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "loopscan/closure/birds_eye.hpp"
 #include "loopscan/closure/icp.hpp"
 #include "loopscan/closure/pose_graph.hpp"
 #include "loopscan/core/database/database.hpp"
@@ -52,6 +53,9 @@ struct VerifyConfig {
   // first stage's stride of the points; the best one, and the best that converged elsewhere
   // (over 1 m or 10 degrees away), are refined by the other stages; the better one is judged.
   double along_track_seed_m = 4.0;
+  // With the query's bird's-eye grid: ICP starts at each guess and at the bird's-eye search's
+  // best poses instead of along the track.
+  BirdsEyeConfig birds_eye;
   int screen_iterations = 6;
   double screen_min_overlap = 0.25;  // below this after screening: refused without refining
   double rival_share = 0.8;  // the rival is refined only if it screened this close to the best
@@ -95,12 +99,10 @@ std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& candidate);
 // Aligns `place` (the map place's cloud, its camera frame) onto `query` and judges it; the
 // verdict is Accepted when every geometric test passes (consistency is the closer's).
 // `guesses`: initial T_query_match (a yaw from the descriptor, or the pose the graph predicts);
-// ICP starts from each and from each shifted along the query's track.
+// ICP starts from each, and from the best poses of a bird's-eye search around them when the
+// query's grid is given (from each guess shifted along the query's track otherwise).
 Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
-                      const std::vector<Eigen::Isometry3d>& guesses, const VerifyConfig& config = {});
-
-
-// Rotation about the camera's up axis (-y), positive to the left: Candidate::yaw_rad's sense.
-Eigen::Isometry3d yaw_rotation(double yaw_rad);
+                      const std::vector<Eigen::Isometry3d>& guesses, const VerifyConfig& config = {},
+                      const BirdsEyeGrid* birds_eye = nullptr);
 
 }  // namespace loopscan::closure

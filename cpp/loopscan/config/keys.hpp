@@ -171,7 +171,7 @@ void visit_closure(V& v, Configuration& c) {
     v.key("min_overlap", f.min_overlap, closed(0, 1),
           "share of the place's structure points within the inlier distance of the query's");
     v.key("along_track_seed_m", f.along_track_seed_m, closed(0, 100),
-          "ICP also starts this far ahead and behind the query");
+          "a descriptor candidate's ICP also starts this far ahead and behind the query");
     v.key("screen_iterations", f.screen_iterations, closed(1, 1000),
           "coarse ICP iterations of every start");
     v.key("screen_min_overlap", f.screen_min_overlap, closed(0, 1),
@@ -185,6 +185,18 @@ void visit_closure(V& v, Configuration& c) {
           "weakest translation direction (smallest eigenvalue of sum n n^T per inlier)");
     v.key("max_translation_m", f.max_translation_m, above(0, 1000),
           "farther apart is not the same place");
+    v.section("birds_eye", "a bird's-eye (x, z, yaw) search that seeds a nearby place's ICP", [&] {
+      closure::BirdsEyeConfig& b = f.birds_eye;
+      v.key("enabled", b.enabled, "false: it starts along the track instead");
+      v.key("cell_m", b.cell_m, closed(0.1, 10), "grid cell");
+      v.key("max_range_m", b.max_range_m, above(0, 200), "points farther from their keyframe are left out");
+      v.key("max_shift_m", b.max_shift_m, closed(0, 50), "searched around each guess in x and z");
+      v.key("yaw_window_deg", b.yaw_window_deg, closed(0, 180), "searched around each guess's yaw");
+      v.key("yaw_step_deg", b.yaw_step_deg, closed(0.1, 90), "");
+      v.key("peaks", b.peaks, closed(1, 100), "distinct poses that seed ICP");
+      v.key("separation_m", b.separation_m, closed(0, 100), "poses nearer than this ...");
+      v.key("separation_deg", b.separation_deg, closed(0, 180), "... and this are one");
+    });
     v.section("icp", "robust point-to-plane ICP", [&] {
       closure::IcpConfig& i = f.icp;
       v.key("stage_distances_m", i.stage_distances_m, list(0, 100, 16, true),
