@@ -174,7 +174,7 @@ TEST(LoopCloser, ClosesReverseRevisits) {
 }
 
 // A VO with little drift: loops may not make the trajectory worse. (On the reverse route the
-// opposite-heading loops' along-track error still does: 0.23 -> 0.32 m, docs/loop-closing.md.)
+// opposite-heading loops' along-track error still does: 0.232 -> 0.282 m, docs/loop-closing.md.)
 TEST(LoopCloser, NeverWorseOnANearlyDriftFreeDrive) {
   for (const std::string route : {"short"}) {
     const Drive d = drive(sim::Season::Summer, 2, route, 0.002);
