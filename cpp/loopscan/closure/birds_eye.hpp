@@ -17,7 +17,7 @@ namespace loopscan::closure {
 Eigen::Isometry3d yaw_rotation(double yaw_rad);
 
 struct BirdsEyeConfig {
-  bool enabled = true;           // false: ICP starts at the guesses and along the track instead
+  bool enabled = false;          // true: a nearby place's ICP starts from it (not yet the default)
   double cell_m = 1.0;           // grid cell
   double max_range_m = 40.0;     // points farther from their keyframe (x, z) are left out
   double max_shift_m = 10.0;     // searched around each guess, in x and z

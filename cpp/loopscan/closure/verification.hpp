@@ -77,7 +77,7 @@ void validate(const VerifyConfig& config);
 struct LoopUncertaintyConfig {
   bool measured = true;            // false: every loop gets pose_graph.loop_*_m / _deg
   double base_m = 0.2;             // same place, same heading
-  double reverse_along_m = 4.0;    // added along the track for the opposite heading (a bias)
+  double reverse_along_m = 1.6;    // added along the track for the opposite heading
   double lateral_per_m = 0.3;      // added across the track per metre between the keyframes
   double turn_m = 0.8;             // added across the track at 90 degrees of heading difference
   double geometry_m = 0.1;         // scaled by the weakness of each direction of the surfaces

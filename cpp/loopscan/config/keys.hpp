@@ -171,7 +171,7 @@ void visit_closure(V& v, Configuration& c) {
     v.key("min_overlap", f.min_overlap, closed(0, 1),
           "share of the place's structure points within the inlier distance of the query's");
     v.key("along_track_seed_m", f.along_track_seed_m, closed(0, 100),
-          "a descriptor candidate's ICP also starts this far ahead and behind the query");
+          "ICP also starts this far ahead and behind the query (nearby: unless birds_eye)");
     v.key("screen_iterations", f.screen_iterations, closed(1, 1000),
           "coarse ICP iterations of every start");
     v.key("screen_min_overlap", f.screen_min_overlap, closed(0, 1),
@@ -187,7 +187,7 @@ void visit_closure(V& v, Configuration& c) {
           "farther apart is not the same place");
     v.section("birds_eye", "a bird's-eye (x, z, yaw) search that seeds a nearby place's ICP", [&] {
       closure::BirdsEyeConfig& b = f.birds_eye;
-      v.key("enabled", b.enabled, "false: it starts along the track instead");
+      v.key("enabled", b.enabled, "off by default: two false loops on one drive (docs/loop-closing.md)");
       v.key("cell_m", b.cell_m, closed(0.1, 10), "grid cell");
       v.key("max_range_m", b.max_range_m, above(0, 200), "points farther from their keyframe are left out");
       v.key("max_shift_m", b.max_shift_m, closed(0, 50), "searched around each guess in x and z");
