@@ -76,6 +76,13 @@ void BM_PlaceCloud(benchmark::State& state) {  // voxel cloud -> index, lazy nor
 }
 BENCHMARK(BM_PlaceCloud)->Unit(benchmark::kMillisecond);
 
+void report(benchmark::State& state, const closure::Loop& loop, const char* label) {
+  state.SetLabel(label);
+  state.counters["overlap"] = loop.overlap;
+  state.counters["accepted"] = loop.accepted();
+  state.counters["iterations"] = loop.iterations;
+}
+
 void BM_Verify(benchmark::State& state) {
   const auto [q, m] = pair_of(state.range(0) == 1);
   const Places& p = places();
@@ -86,16 +93,12 @@ void BM_Verify(benchmark::State& state) {
     loop = closure::verify_candidate(target, place, {closure::yaw_rotation(0.0), closure::yaw_rotation(M_PI)});
     benchmark::DoNotOptimize(loop);
   }
-  state.SetLabel(state.range(0) == 1 ? "revisit" : "wrong place");
-  state.counters["overlap"] = loop.overlap;
-  state.counters["accepted"] = loop.accepted();
-  state.counters["iterations"] = loop.iterations;
+  report(state, loop, state.range(0) == 1 ? "revisit" : "wrong place");
 }
 BENCHMARK(BM_Verify)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
-// A nearby place (the revisit, its predicted pose 5 m off along the track): starts from the
-// bird's-eye search (Arg 1, the closer's way) or from the
-// prediction shifted along the track (Arg 0).
+// A nearby place (the revisit, its predicted pose 5 m off along the track): ICP starts from
+// the bird's-eye search (Arg 1) or from the prediction shifted along the track (Arg 0).
 void BM_VerifyNearby(benchmark::State& state) {
   const auto [q, m] = pair_of(true);
   const Places& p = places();
@@ -110,10 +113,7 @@ void BM_VerifyNearby(benchmark::State& state) {
     loop = closure::verify_candidate(target, place, {predicted}, {}, grid ? &*grid : nullptr);
     benchmark::DoNotOptimize(loop);
   }
-  state.SetLabel(state.range(0) == 1 ? "bird's-eye starts" : "along-track starts");
-  state.counters["overlap"] = loop.overlap;
-  state.counters["accepted"] = loop.accepted();
-  state.counters["iterations"] = loop.iterations;
+  report(state, loop, state.range(0) == 1 ? "bird's-eye starts" : "along-track starts");
 }
 BENCHMARK(BM_VerifyNearby)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 

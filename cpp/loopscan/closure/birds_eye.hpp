@@ -15,6 +15,8 @@ namespace loopscan::closure {
 
 // Rotation about the camera's up axis (-y), positive to the left: Candidate::yaw_rad's sense.
 Eigen::Isometry3d yaw_rotation(double yaw_rad);
+// The yaw of a pose about the up axis (radians): a loop's heading difference.
+double yaw_of(const Eigen::Isometry3d& T);
 
 struct BirdsEyeConfig {
   bool enabled = false;          // true: a nearby place's ICP starts from it (not yet the default)

@@ -51,8 +51,7 @@ void validate(const LoopUncertaintyConfig& c) {
 }
 
 Covariance6 loop_covariance(const Loop& loop, const LoopUncertaintyConfig& c) {
-  const Eigen::Matrix3d R = loop.T_query_match.rotation();
-  const double yaw = std::atan2(R(0, 2), R(2, 2));  // heading difference about the up axis
+  const double yaw = yaw_of(loop.T_query_match);
   const double along = c.base_m + c.reverse_along_m * 0.5 * (1.0 - std::cos(yaw));
   const double across = c.base_m + c.lateral_per_m * std::abs(loop.T_query_match.translation().x()) +
                         c.turn_m * std::abs(std::sin(yaw));
