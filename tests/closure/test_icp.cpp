@@ -7,6 +7,8 @@
 #include <set>
 #include <tuple>
 
+#include <Eigen/Eigenvalues>
+
 #include "loopscan/closure/icp.hpp"
 #include "loopscan/closure/verification.hpp"
 #include "scene_points.hpp"
@@ -104,6 +106,19 @@ TEST(Icp, NearlyEmptyAndUnrelatedScansAreRefused) {
                                       source, {closure::yaw_rotation(0.0)})
                 .verdict,
             closure::Verdict::FewPoints);
+  // A small place (just over min_points, screened on every 4th) verifies from guesses off
+  // along the track.
+  closure::PlaceCloud small;
+  for (std::size_t i = 0; i < source.structure; i += source.structure / 160) small.points.push_back(source.points[i]);
+  small.structure = small.points.size();
+  ASSERT_GE(small.points.size(), 160u);
+  for (double along : {-3.0, -1.5, 1.5, 3.0}) {
+    Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
+    guess.translation().z() = along;
+    const closure::Loop loop = closure::verify_candidate(target, small, {guess});
+    EXPECT_EQ(loop.verdict, closure::Verdict::Accepted) << along << " m: " << to_string(loop.verdict);
+    EXPECT_LT(loop.T_query_match.translation().norm(), 0.3) << along;
+  }
   // Another street altogether (different poles, cars, facade offsets), from every heading.
   for (unsigned seed : {9u, 10u, 11u}) {
     test::SceneOptions other;
@@ -204,7 +219,47 @@ TEST(TargetCloud, NearestMatchesBruteForceAndNormalsArePlaneNormals) {
     ASSERT_GE(j, 0);
     EXPECT_FLOAT_EQ(d2, best);
     EXPECT_EQ(target.nearest(q, best * 0.99f, nullptr), best > 0 ? -1 : j);
+    // A hint (any point, the answer itself, none, out of range) changes nothing, bounded or not.
+    std::uniform_int_distribution<int> any(-1, int(pts.size()));
+    for (const int hint : {any(rng), any(rng), j, -1, int(pts.size()) + 5}) {
+      for (const float bound : {1e30f, best * 4.f, best, best * 0.99f, 0.25f}) {
+        float unhinted_d2 = -1, hinted_d2 = -1;
+        const int a = target.nearest(q, bound, &unhinted_d2);
+        ASSERT_EQ(target.nearest(q, bound, &hinted_d2, hint), a) << "hint " << hint << " bound " << bound;
+        if (a >= 0) {
+          EXPECT_EQ(hinted_d2, unhinted_d2);
+        }
+      }
+    }
   }
+  // Normals against a brute-force plane fit over the 12 nearest points within 3 m.
+  int compared = 0;
+  for (std::size_t i = 0; i < pts.size(); i += 7) {
+    std::vector<std::pair<float, std::size_t>> by_distance;
+    for (std::size_t k = 0; k < pts.size(); ++k) by_distance.push_back({(pts[k] - pts[i]).squaredNorm(), k});
+    std::partial_sort(by_distance.begin(), by_distance.begin() + 12, by_distance.end());
+    std::vector<Eigen::Vector3d> near;
+    for (int k = 0; k < 12; ++k) {
+      if (by_distance[std::size_t(k)].first <= 9.f) near.push_back(pts[by_distance[std::size_t(k)].second].cast<double>());
+    }
+    if (near.size() < 5) {
+      EXPECT_FALSE(target.has_normal(int(i)));
+      continue;
+    }
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& p : near) mean += p / double(near.size());
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (const auto& p : near) scatter += (p - mean) * (p - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);  // the iterative solver
+    const Eigen::Vector3d ev = eig.eigenvalues();
+    const double planarity = ev[0] / ev[1];
+    if (std::abs(planarity - 0.25) < 1e-3) continue;  // at the threshold either answer is right
+    ASSERT_EQ(target.has_normal(int(i)), planarity <= 0.25) << i;
+    if (!target.has_normal(int(i))) continue;
+    EXPECT_GT(std::abs(target.normal(int(i)).cast<double>().dot(eig.eigenvectors().col(0))), 1 - 1e-6) << i;
+    ++compared;
+  }
+  EXPECT_GT(compared, 100);
   // Ground points (y = 1.65, away from facades and objects) have vertical normals.
   int ground = 0, vertical = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {

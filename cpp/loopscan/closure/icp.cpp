@@ -25,9 +25,11 @@ Eigen::Isometry3d exp_se3(const Eigen::Matrix<double, 6, 1>& delta) {
   return T;
 }
 
-// One Gauss-Newton step over the correspondences within `max_distance`; false when too few.
-bool step(const Points3f& source, const TargetCloud& target, const Eigen::Isometry3d& T,
-          double max_distance, Eigen::Matrix<double, 6, 1>& delta) {
+// One Gauss-Newton step over every `stride`-th source point's correspondence within
+// `max_distance`; false when too few. `hints` holds each source point's last correspondence.
+bool step(const Points3f& source, std::size_t stride, const TargetCloud& target,
+          const Eigen::Isometry3d& T, double max_distance, std::vector<int>& hints,
+          Eigen::Matrix<double, 6, 1>& delta) {
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
   const double sigma2 = (max_distance / 3.0) * (max_distance / 3.0);
@@ -41,10 +43,11 @@ bool step(const Points3f& source, const TargetCloud& target, const Eigen::Isomet
     H.noalias() += w * J * J.transpose();
     g.noalias() += w * r * J;
   };
-  for (const Eigen::Vector3f& s : source) {
-    const Eigen::Vector3f p = R * s + t;
-    const int j = target.nearest(p, max_d2, nullptr);
+  for (std::size_t i = 0; i < source.size(); i += stride) {
+    const Eigen::Vector3f p = R * source[i] + t;
+    const int j = target.nearest(p, max_d2, nullptr, hints[i]);
     if (j < 0) continue;
+    hints[i] = j;
     const Eigen::Vector3d pd = p.cast<double>();
     const Eigen::Vector3d d = pd - target.points()[std::size_t(j)].cast<double>();
     if (target.has_normal(j)) {
@@ -87,9 +90,10 @@ void validate(const IcpConfig& c) {
   if (!(c.inlier_distance_m > 0 && c.inlier_distance_m <= 100)) fail("inlier_distance_m in (0, 100]");
 }
 
-IcpResult score_alignment(const Points3f& source, const TargetCloud& target,
-                          const Eigen::Isometry3d& T, const IcpConfig& config,
-                          std::size_t structure) {
+namespace {
+
+IcpResult score(const Points3f& source, const TargetCloud& target, const Eigen::Isometry3d& T,
+                const IcpConfig& config, std::size_t structure, const std::vector<int>* hints) {
   structure = std::min(structure, source.size());
   int structure_inliers = 0;
   IcpResult r;
@@ -103,7 +107,7 @@ IcpResult score_alignment(const Points3f& source, const TargetCloud& target,
   for (std::size_t i = 0; i < source.size(); ++i) {
     const Eigen::Vector3f p = R * source[i] + t;
     float d2 = 0;
-    const int j = target.nearest(p, max_d2, &d2);
+    const int j = target.nearest(p, max_d2, &d2, hints ? (*hints)[i] : -1);
     if (j < 0) continue;
     ++r.inliers;
     structure_inliers += i < structure;
@@ -131,6 +135,14 @@ IcpResult score_alignment(const Points3f& source, const TargetCloud& target,
   return r;
 }
 
+}  // namespace
+
+IcpResult score_alignment(const Points3f& source, const TargetCloud& target,
+                          const Eigen::Isometry3d& T, const IcpConfig& config,
+                          std::size_t structure) {
+  return score(source, target, T, config, structure, nullptr);
+}
+
 IcpResult align_point_to_plane(const Points3f& source, const TargetCloud& target,
                                const Eigen::Isometry3d& initial, const IcpConfig& config,
                                std::size_t structure) {
@@ -138,13 +150,14 @@ IcpResult align_point_to_plane(const Points3f& source, const TargetCloud& target
   Eigen::Isometry3d T = initial;
   int iterations = 0;
   bool converged = false;
+  std::vector<int> hints(source.size(), -1);
   for (std::size_t stage = 0; stage < config.stage_distances_m.size(); ++stage) {
-    const Points3f subset = every_nth(source, std::size_t(config.stage_strides[stage]));
+    const std::size_t stride = std::size_t(config.stage_strides[stage]);
     converged = false;
     for (int it = 0; it < config.max_iterations_per_stage; ++it) {
       Eigen::Matrix<double, 6, 1> delta;
       ++iterations;
-      if (!step(subset, target, T, config.stage_distances_m[stage], delta)) break;
+      if (!step(source, stride, target, T, config.stage_distances_m[stage], hints, delta)) break;
       T = exp_se3(delta) * T;
       if (delta.head<3>().norm() < config.converged_translation_m &&
           delta.tail<3>().norm() < config.converged_rotation_rad) {
@@ -153,7 +166,7 @@ IcpResult align_point_to_plane(const Points3f& source, const TargetCloud& target
       }
     }
   }
-  IcpResult r = score_alignment(source, target, T, config, structure);
+  IcpResult r = score(source, target, T, config, structure, &hints);
   r.iterations = iterations;
   r.converged = converged;
   return r;

@@ -54,8 +54,13 @@ void TargetCloud::fit_normal(std::size_t i) const {
   const std::size_t k = std::min<std::size_t>(std::size_t(config_.neighbours), points_.size());
   std::uint32_t ids[64];
   float d2[64];
-  const std::size_t found = index_->tree.knnSearch(points_[i].data(), k, ids, d2);
+  // Bounded by the radius, like nearest(): the tree prunes what the fit would discard.
   const float r2 = static_cast<float>(config_.max_radius_m * config_.max_radius_m);
+  nanoflann::KNNResultSet<float, std::uint32_t> result(k);
+  result.init(ids, d2);
+  d2[k - 1] = std::nextafter(r2, std::numeric_limits<float>::infinity());
+  index_->tree.findNeighbors(result, points_[i].data(), nanoflann::SearchParams());
+  const std::size_t found = result.size();
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   std::size_t used = 0;
   for (std::size_t j = 0; j < found; ++j) {
@@ -71,7 +76,8 @@ void TargetCloud::fit_normal(std::size_t i) const {
     const Eigen::Vector3d d = points_[ids[j]].cast<double>() - mean;
     scatter += d * d.transpose();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(scatter);  // closed form, faster than the iterative solver
   const Eigen::Vector3d ev = eig.eigenvalues();  // ascending
   if (!(ev[1] > 0) || ev[0] > config_.max_planarity * ev[1]) return;
   normals_[i] = eig.eigenvectors().col(0).cast<float>().normalized();
@@ -109,17 +115,24 @@ TargetCloud& TargetCloud::operator=(TargetCloud&& o) noexcept {
 }
 
 int TargetCloud::nearest(const Eigen::Vector3f& query, float max_squared_distance,
-                         float* squared_distance) const {
+                         float* squared_distance, int hint) const {
   if (points_.empty()) return -1;
   // The search starts with the bound as its worst distance, so the tree prunes every branch
-  // beyond it (most of the work for points without a correspondence).
+  // beyond it (most of the work for points without a correspondence). A hint within the bound
+  // lowers it to just above the hint's own distance (the margin covers the tree's summing
+  // the squares in another order), so the hint or a nearer point is found.
+  float bound = max_squared_distance;
+  if (hint >= 0 && std::size_t(hint) < points_.size()) {
+    bound = std::min(bound, (points_[std::size_t(hint)] - query).squaredNorm() * (1.0f + 1e-5f) + 1e-30f);
+  }
   std::uint32_t id = 0;
   float d2 = 0;
   nanoflann::KNNResultSet<float, std::uint32_t> result(1);
   result.init(&id, &d2);
-  d2 = std::nextafter(max_squared_distance, std::numeric_limits<float>::infinity());
+  d2 = std::nextafter(bound, std::numeric_limits<float>::infinity());
   index_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
   if (result.size() == 0) return -1;
+  if (d2 > max_squared_distance) return -1;  // the hint's margin reached past the bound
   if (squared_distance) *squared_distance = d2;
   return static_cast<int>(id);
 }

@@ -26,9 +26,11 @@ class TargetCloud {
   TargetCloud(TargetCloud&&) noexcept;
   TargetCloud& operator=(TargetCloud&&) noexcept;
 
-  // Index of the nearest point within sqrt(max_squared_distance), or -1.
+  // Index of the nearest point within sqrt(max_squared_distance), or -1. `hint`, a point
+  // likely near (the last answer for a point that moved a little), tightens the search's bound
+  // and leaves the answer as it is.
   int nearest(const Eigen::Vector3f& query, float max_squared_distance,
-              float* squared_distance) const;
+              float* squared_distance, int hint = -1) const;
 
   const Points3f& points() const { return points_; }
   bool has_normal(int i) const;                 // a plane was found around point i
