@@ -132,7 +132,6 @@ int TargetCloud::nearest(const Eigen::Vector3f& query, float max_squared_distanc
   d2 = std::nextafter(bound, std::numeric_limits<float>::infinity());
   index_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
   if (result.size() == 0) return -1;
-  if (d2 > max_squared_distance) return -1;  // the hint's margin reached past the bound
   if (squared_distance) *squared_distance = d2;
   return static_cast<int>(id);
 }
