@@ -30,6 +30,16 @@ struct TargetCloud::Index {
       : adaptor{points}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(24)) {
     tree.buildIndex();
   }
+  // The up to k nearest points within sqrt(bound), nearest first; returns how many. The search
+  // starts with the bound as its worst distance, so the tree prunes every branch beyond it.
+  std::size_t within(const float* query, std::size_t k, float bound, std::uint32_t* ids,
+                     float* d2) const {
+    nanoflann::KNNResultSet<float, std::uint32_t> result(k);
+    result.init(ids, d2);
+    d2[k - 1] = std::nextafter(bound, std::numeric_limits<float>::infinity());
+    tree.findNeighbors(result, query, nanoflann::SearchParams());
+    return result.size();
+  }
 };
 
 TargetCloud::TargetCloud(Points3f points, const NormalConfig& config)
@@ -54,25 +64,14 @@ void TargetCloud::fit_normal(std::size_t i) const {
   const std::size_t k = std::min<std::size_t>(std::size_t(config_.neighbours), points_.size());
   std::uint32_t ids[64];
   float d2[64];
-  // Bounded by the radius, like nearest(): the tree prunes what the fit would discard.
-  const float r2 = static_cast<float>(config_.max_radius_m * config_.max_radius_m);
-  nanoflann::KNNResultSet<float, std::uint32_t> result(k);
-  result.init(ids, d2);
-  d2[k - 1] = std::nextafter(r2, std::numeric_limits<float>::infinity());
-  index_->tree.findNeighbors(result, points_[i].data(), nanoflann::SearchParams());
-  const std::size_t found = result.size();
+  const std::size_t found = index_->within(
+      points_[i].data(), k, static_cast<float>(config_.max_radius_m * config_.max_radius_m), ids, d2);
+  if (found < 5) return;
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  std::size_t used = 0;
-  for (std::size_t j = 0; j < found; ++j) {
-    if (d2[j] > r2) continue;
-    mean += points_[ids[j]].cast<double>();
-    ++used;
-  }
-  if (used < 5) return;
-  mean /= double(used);
+  for (std::size_t j = 0; j < found; ++j) mean += points_[ids[j]].cast<double>();
+  mean /= double(found);
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   for (std::size_t j = 0; j < found; ++j) {
-    if (d2[j] > r2) continue;
     const Eigen::Vector3d d = points_[ids[j]].cast<double>() - mean;
     scatter += d * d.transpose();
   }
@@ -117,21 +116,16 @@ TargetCloud& TargetCloud::operator=(TargetCloud&& o) noexcept {
 int TargetCloud::nearest(const Eigen::Vector3f& query, float max_squared_distance,
                          float* squared_distance, int hint) const {
   if (points_.empty()) return -1;
-  // The search starts with the bound as its worst distance, so the tree prunes every branch
-  // beyond it (most of the work for points without a correspondence). A hint within the bound
-  // lowers it to just above the hint's own distance (the margin covers the tree's summing
-  // the squares in another order), so the hint or a nearer point is found.
+  // The bound prunes the tree (most of the work for points without a correspondence). A hint
+  // within it lowers it to just above the hint's own distance (the margin covers the tree's
+  // summing the squares in another order), so the hint or a nearer point is found.
   float bound = max_squared_distance;
   if (hint >= 0 && std::size_t(hint) < points_.size()) {
     bound = std::min(bound, (points_[std::size_t(hint)] - query).squaredNorm() * (1.0f + 1e-5f) + 1e-30f);
   }
   std::uint32_t id = 0;
   float d2 = 0;
-  nanoflann::KNNResultSet<float, std::uint32_t> result(1);
-  result.init(&id, &d2);
-  d2 = std::nextafter(bound, std::numeric_limits<float>::infinity());
-  index_->tree.findNeighbors(result, query.data(), nanoflann::SearchParams());
-  if (result.size() == 0) return -1;
+  if (index_->within(query.data(), 1, bound, &id, &d2) == 0) return -1;
   if (squared_distance) *squared_distance = d2;
   return static_cast<int>(id);
 }
