@@ -1,0 +1,48 @@
+#pragma once
+// A place seen from above, one descriptor for any driving direction and lane. The image is the
+// density of structure points on the ground plane around the keyframe. The key is the magnitude
+// of the image's 2D Fourier transform, resampled on a polar grid: a translation of the place
+// (the other lane, a keyframe metres along) leaves the magnitude alone, and a turn of the place
+// shifts the key along its angles. One circular correlation of two keys therefore compares
+// places seen from anywhere nearby, in any direction, and gives their yaw; the images then give
+// the metric offset (birds_eye_match.hpp).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace loopscan {
+
+struct BirdsEyePlaceConfig {
+  double cell_m = 1.0;
+  double range_m = 30.0;        // the image spans [-range_m, range_m] in x and z
+  double taper_start_m = 10.0;  // cell weights fall smoothly to zero from here to taper_end_m
+  double taper_end_m = 30.0;    // near structure is what two drives of a place share
+  double min_height_m = -1.0;   // structure: points above this height over the camera (up +)
+  int spectrum_size = 128;      // the image is zero-padded to this side for the transform
+  int rings = 24;               // key radii, evenly spaced over [min_frequency, max_frequency]
+  int angles = 60;              // key angles over [0, pi): the magnitude is point-symmetric
+  double min_frequency = 3.0;   // cycles per spectrum_size cells
+  double max_frequency = 30.0;
+};
+
+// Throws std::invalid_argument naming the first bad field.
+void validate(const BirdsEyePlaceConfig& config);
+int image_side(const BirdsEyePlaceConfig& config);
+
+struct BirdsEyePlace {
+  int side = 0;                     // image cells per side
+  std::vector<std::uint8_t> image;  // side x side, row from z, column from x; 255 = densest
+  std::vector<std::int8_t> key;     // rings x angles, ring means removed, max |value| = 127
+  std::size_t bytes() const { return image.size() + key.size(); }
+};
+
+// Points in the camera frame of the keyframe (x right, y down, z forward), as three arrays of
+// n values. A place without structure gets an all-zero image and key.
+BirdsEyePlace describe_birds_eye(const float* x, const float* y, const float* z, std::size_t n,
+                                 const BirdsEyePlaceConfig& config = {});
+
+// The float image before quantisation (tapered square root of the structure count per cell).
+std::vector<float> birds_eye_image(const float* x, const float* y, const float* z, std::size_t n,
+                                   const BirdsEyePlaceConfig& config);
+
+}  // namespace loopscan

@@ -1,0 +1,162 @@
+#include "loopscan/core/matching/birds_eye_match.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace loopscan {
+namespace {
+
+double squared_norm(const std::vector<std::int8_t>& v) {
+  double s = 0;
+  for (std::int8_t x : v) s += double(x) * double(x);
+  return s;
+}
+
+void check_images(const BirdsEyePlace& query, const BirdsEyePlace& place,
+                  const BirdsEyePlaceConfig& config) {
+  const int side = image_side(config);
+  const std::size_t cells = std::size_t(side) * std::size_t(side);
+  if (query.side != side || place.side != side || query.image.size() != cells ||
+      place.image.size() != cells) {
+    throw std::invalid_argument("birds_eye: images of " + std::to_string(side) + " x " +
+                                std::to_string(side) + " cells expected");
+  }
+}
+
+// The place image turned by yaw into the query's orientation: cell p of the result samples the
+// place at R(yaw)^T p (bilinear; zero outside).
+std::vector<float> turned_image(const BirdsEyePlace& place, double yaw, double cell_m,
+                                double range_m) {
+  const int n = place.side;
+  std::vector<float> out(std::size_t(n) * std::size_t(n), 0.f);
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  auto at = [&](int r, int col) -> double {
+    if (r < 0 || r >= n || col < 0 || col >= n) return 0.0;
+    return place.image[std::size_t(r) * n + col];
+  };
+  for (int r = 0; r < n; ++r) {
+    const double z = (r + 0.5) * cell_m - range_m;
+    for (int col = 0; col < n; ++col) {
+      const double x = (col + 0.5) * cell_m - range_m;
+      // R^T (x, z): R turns x towards z by yaw.
+      const double px = c * x + s * z, pz = -s * x + c * z;
+      const double fc = (px + range_m) / cell_m - 0.5, fr = (pz + range_m) / cell_m - 0.5;
+      const double c0 = std::floor(fc), r0 = std::floor(fr);
+      const double wc = fc - c0, wr = fr - r0;
+      const int ci = int(c0), ri = int(r0);
+      out[std::size_t(r) * n + col] =
+          float((1 - wr) * ((1 - wc) * at(ri, ci) + wc * at(ri, ci + 1)) +
+                wr * ((1 - wc) * at(ri + 1, ci) + wc * at(ri + 1, ci + 1)));
+    }
+  }
+  return out;
+}
+
+double wrap_angle(double a) {
+  a = std::remainder(a, 2 * M_PI);
+  return a <= -M_PI ? a + 2 * M_PI : a;
+}
+
+// Offset of a parabola's vertex through (-1, a), (0, b), (1, c), within half a cell.
+double vertex_offset(double a, double b, double c) {
+  const double curvature = a - 2 * b + c;
+  if (!(curvature < 0)) return 0.0;
+  return std::clamp(0.5 * (a - c) / curvature, -0.5, 0.5);
+}
+
+}  // namespace
+
+BirdsEyeKeyMatch match_keys(const BirdsEyePlace& query, const BirdsEyePlace& place, int angles) {
+  if (angles < 1 || query.key.size() != place.key.size() || query.key.size() % angles != 0) {
+    throw std::invalid_argument("birds_eye: keys of equal size, whole rings of " +
+                                std::to_string(angles) + " angles expected");
+  }
+  BirdsEyeKeyMatch best;
+  const double norms = std::sqrt(squared_norm(query.key) * squared_norm(place.key));
+  if (!(norms > 0)) return best;
+  const int rings = int(query.key.size()) / angles;
+  const std::int8_t* q = query.key.data();
+  const std::int8_t* d = place.key.data();
+  double top = -1e300;
+  int top_shift = 0;
+  for (int shift = 0; shift < angles; ++shift) {  // q[a] against d[a - shift]
+    long long sum = 0;
+    for (int r = 0; r < rings; ++r) {
+      const std::int8_t* qr = q + std::size_t(r) * angles;
+      const std::int8_t* dr = d + std::size_t(r) * angles;
+      for (int a = 0; a < shift; ++a) sum += int(qr[a]) * int(dr[a - shift + angles]);
+      for (int a = shift; a < angles; ++a) sum += int(qr[a]) * int(dr[a - shift]);
+    }
+    if (double(sum) > top) {
+      top = double(sum);
+      top_shift = shift;
+    }
+  }
+  best.distance = 1.0 - top / norms;
+  best.yaw_rad = top_shift * M_PI / angles;
+  return best;
+}
+
+std::vector<double> birds_eye_correlation(const BirdsEyePlace& query, const BirdsEyePlace& place,
+                                          double yaw_rad, const BirdsEyePlaceConfig& config,
+                                          int max_cells) {
+  check_images(query, place, config);
+  const int n = query.side, w = 2 * max_cells + 1;
+  std::vector<double> out(std::size_t(w) * std::size_t(w), 0.0);
+  const std::vector<float> turned = turned_image(place, yaw_rad, config.cell_m, config.range_m);
+  double turned_sq = 0, query_sq = 0;
+  for (float v : turned) turned_sq += double(v) * v;
+  for (std::uint8_t v : query.image) query_sq += double(v) * v;
+  const double norms = std::sqrt(turned_sq * query_sq);
+  if (!(norms > 0)) return out;
+  // Sparse over the turned place: most cells hold no structure.
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      const double v = turned[std::size_t(r) * n + c];
+      if (v == 0) continue;
+      for (int dz = -max_cells; dz <= max_cells; ++dz) {
+        const int qr = r + dz;
+        if (qr < 0 || qr >= n) continue;
+        const std::uint8_t* row = query.image.data() + std::size_t(qr) * n;
+        double* o = out.data() + std::size_t(dz + max_cells) * w + max_cells;
+        const int lo = std::max(-max_cells, -c), hi = std::min(max_cells, n - 1 - c);
+        for (int dx = lo; dx <= hi; ++dx) o[dx] += v * row[c + dx];
+      }
+    }
+  }
+  for (double& v : out) v /= norms;
+  return out;
+}
+
+BirdsEyePose birds_eye_pose(const BirdsEyePlace& query, const BirdsEyePlace& place,
+                            double key_yaw_rad, const BirdsEyePlaceConfig& config,
+                            const BirdsEyeSearchConfig& search) {
+  check_images(query, place, config);
+  if (!(search.max_shift_m >= 0) || search.yaw_steps < 0) {
+    throw std::invalid_argument("birds_eye: max_shift_m >= 0 and yaw_steps >= 0 expected");
+  }
+  const int m = int(std::floor(search.max_shift_m / config.cell_m)), w = 2 * m + 1;
+  const double step = M_PI / config.angles;
+  BirdsEyePose best;
+  best.score = -1;
+  for (double base : {key_yaw_rad, key_yaw_rad + M_PI}) {
+    for (int k = -search.yaw_steps; k <= search.yaw_steps; ++k) {
+      const double yaw = wrap_angle(base + k * step);
+      const std::vector<double> corr = birds_eye_correlation(query, place, yaw, config, m);
+      const auto top = std::max_element(corr.begin(), corr.end());
+      if (!(*top > best.score)) continue;
+      const int i = int(top - corr.begin()), row = i / w, col = i % w;
+      auto at = [&](int r, int c) { return corr[std::size_t(r) * w + c]; };
+      const double fx = (col > 0 && col < w - 1) ? vertex_offset(at(row, col - 1), *top, at(row, col + 1)) : 0;
+      const double fz = (row > 0 && row < w - 1) ? vertex_offset(at(row - 1, col), *top, at(row + 1, col)) : 0;
+      best = {(col - m + fx) * config.cell_m, (row - m + fz) * config.cell_m, yaw, *top};
+    }
+  }
+  best.score = std::max(best.score, 0.0);
+  return best;
+}
+
+}  // namespace loopscan

@@ -1,0 +1,44 @@
+#pragma once
+// Comparing two bird's-eye places (birds_eye_place.hpp): the keys by one circular correlation
+// over their angles (a distance and the yaw modulo pi), then the images by a correlation over
+// shifts at that yaw and the yaw plus pi, for the place's metric pose in the query's frame.
+#include "loopscan/core/descriptors/birds_eye_place.hpp"
+
+namespace loopscan {
+
+struct BirdsEyeKeyMatch {
+  double distance = 1.0;  // 1 - the best normalised correlation, in [0, 2]; 1 without structure
+  double yaw_rad = 0.0;   // in [0, pi): the place turned by it (or it + pi) matches the query
+};
+
+// Throws std::invalid_argument when the keys differ in size or do not hold `angles` columns.
+BirdsEyeKeyMatch match_keys(const BirdsEyePlace& query, const BirdsEyePlace& place, int angles);
+
+// The place in the query's camera frame on the ground plane: a place point (x, z) lies at
+// R(yaw) (x, z) + (x_m, z_m) in the query, R turning x towards z; yaw is about the camera's up
+// axis (-y), positive to the left, in (-pi, pi].
+struct BirdsEyePose {
+  double x_m = 0, z_m = 0, yaw_rad = 0;
+  double score = 0;  // normalised image correlation at the pose, in [0, 1]
+};
+
+struct BirdsEyeSearchConfig {
+  double max_shift_m = 12.0;  // searched in x and z around the keyframes' offset of zero
+  int yaw_steps = 1;          // extra yaws each side of the key's, one key angle apart
+};
+
+// The best pose over the key's yaw, the yaw plus pi (and yaw_steps around each) and every
+// whole-cell shift within max_shift_m, refined to a fraction of a cell. Throws
+// std::invalid_argument on images of another size than config describes.
+BirdsEyePose birds_eye_pose(const BirdsEyePlace& query, const BirdsEyePlace& place,
+                            double key_yaw_rad, const BirdsEyePlaceConfig& config,
+                            const BirdsEyeSearchConfig& search = {});
+
+// The normalised correlation of the query image with the place image turned by yaw_rad, at
+// every whole-cell shift (dx, dz) in [-max_cells, max_cells]^2: row-major from (-max, -max),
+// column = dx. What birds_eye_pose maximises.
+std::vector<double> birds_eye_correlation(const BirdsEyePlace& query, const BirdsEyePlace& place,
+                                          double yaw_rad, const BirdsEyePlaceConfig& config,
+                                          int max_cells);
+
+}  // namespace loopscan

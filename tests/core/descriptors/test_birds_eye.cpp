@@ -1,0 +1,247 @@
+// The bird's-eye place: what its key is invariant to, and its pose search against a brute-force
+// search over every yaw and shift of a grid.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "loopscan/core/descriptors/birds_eye_place.hpp"
+#include "loopscan/core/matching/birds_eye_match.hpp"
+
+namespace loopscan {
+namespace {
+
+struct Point2 {
+  double x, z, height;
+};
+
+// A street world on the ground plane: facades with gaps along both sides of a road that
+// bends, trees at irregular spacing, parked cars, and ground points (below the structure
+// height) everywhere.
+std::vector<Point2> street_world(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Point2> world;
+  auto road_x = [&](double z) { return 8.0 * std::sin(z / 60.0 + seed); };
+  for (double z = -120; z < 120; z += 0.5) {
+    for (int side : {-1, 1}) {
+      const double facade = road_x(z) + side * (9.0 + 2.0 * std::sin(z / 23.0 + 3 * side + seed));
+      if (std::fmod(z + 240 + 37 * seed * side, 31.0) > 6.0) {  // a gap every 31 m
+        for (int k = 0; k < 4; ++k) world.push_back({facade + 0.2 * (u(rng) - 0.5), z, 2 + 8 * u(rng)});
+      }
+    }
+  }
+  for (int i = 0; i < 60; ++i) {  // trees: clusters of points
+    const double z = -120 + 240 * u(rng), side = u(rng) < 0.5 ? -1 : 1;
+    const double x = road_x(z) + side * (5.5 + u(rng));
+    for (int k = 0; k < 40; ++k) world.push_back({x + 1.5 * (u(rng) - 0.5), z + 1.5 * (u(rng) - 0.5), 1 + 5 * u(rng)});
+  }
+  for (int i = 0; i < 25; ++i) {  // parked cars: short boxes
+    const double z = -120 + 240 * u(rng), side = u(rng) < 0.5 ? -1 : 1;
+    const double x = road_x(z) + side * 3.5;
+    for (int k = 0; k < 30; ++k) world.push_back({x + 1.8 * (u(rng) - 0.5), z + 4.2 * (u(rng) - 0.5), 0.3 + 1.2 * u(rng)});
+  }
+  for (int i = 0; i < 8000; ++i) world.push_back({-120 + 240 * u(rng), -120 + 240 * u(rng), 0.0});
+  return world;
+}
+
+// The world within 45 m of a camera at (cx, cz) with yaw psi (turning x towards z), in its
+// frame: x right, y down (camera 1.7 m above the ground), z forward.
+struct Scan {
+  std::vector<float> x, y, z;
+};
+Scan scan_at(const std::vector<Point2>& world, double cx, double cz, double psi) {
+  Scan s;
+  const double c = std::cos(psi), sn = std::sin(psi);
+  for (const Point2& p : world) {
+    const double dx = p.x - cx, dz = p.z - cz;
+    if (dx * dx + dz * dz > 45.0 * 45.0) continue;
+    s.x.push_back(float(c * dx + sn * dz));  // R(psi)^T (p - c)
+    s.z.push_back(float(-sn * dx + c * dz));
+    s.y.push_back(float(1.7 - p.height));
+  }
+  return s;
+}
+
+BirdsEyePlace describe(const Scan& s, const BirdsEyePlaceConfig& config = {}) {
+  return describe_birds_eye(s.x.data(), s.y.data(), s.z.data(), s.x.size(), config);
+}
+
+double angle_error(double a, double b) { return std::abs(std::remainder(a - b, 2 * M_PI)); }
+
+// The correlation of the query with the place turned by yaw and shifted by whole cells,
+// summed over every query cell with the place image sampled where that cell comes from.
+double oracle_correlation(const BirdsEyePlace& q, const BirdsEyePlace& d, double yaw, int dx,
+                          int dz, const BirdsEyePlaceConfig& config) {
+  const int n = q.side;
+  auto place_at = [&](double x, double z) {  // bilinear over cell centres, zero outside
+    const double fc = (x + config.range_m) / config.cell_m - 0.5;
+    const double fr = (z + config.range_m) / config.cell_m - 0.5;
+    double sum = 0;
+    for (int r = int(std::floor(fr)); r <= int(std::floor(fr)) + 1; ++r) {
+      for (int c = int(std::floor(fc)); c <= int(std::floor(fc)) + 1; ++c) {
+        if (r < 0 || r >= n || c < 0 || c >= n) continue;
+        sum += (1 - std::abs(fr - r)) * (1 - std::abs(fc - c)) * d.image[r * n + c];
+      }
+    }
+    return sum;
+  };
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  double dot = 0, qq = 0, dd = 0;
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      const double x = (c + 0.5) * config.cell_m - config.range_m;
+      const double z = (r + 0.5) * config.cell_m - config.range_m;
+      const double turned = place_at(cy * x + sy * z, -sy * x + cy * z);  // place at R^T p
+      dd += turned * turned;
+      const double qv = q.image[r * n + c];
+      qq += qv * qv;
+      const int sr = r - dz, sc = c - dx;  // the turned place's cell that lands on (r, c)
+      if (sr < 0 || sr >= n || sc < 0 || sc >= n) continue;
+      const double xs = (sc + 0.5) * config.cell_m - config.range_m;
+      const double zs = (sr + 0.5) * config.cell_m - config.range_m;
+      dot += qv * place_at(cy * xs + sy * zs, -sy * xs + cy * zs);
+    }
+  }
+  return qq > 0 && dd > 0 ? dot / std::sqrt(qq * dd) : 0.0;
+}
+
+TEST(BirdsEyePlace, SizeAndEmptyPlace) {
+  const BirdsEyePlaceConfig config;
+  const BirdsEyePlace empty = describe_birds_eye(nullptr, nullptr, nullptr, 0, config);
+  EXPECT_EQ(empty.side, 60);
+  EXPECT_EQ(empty.bytes(), 60u * 60u + 24u * 60u);
+  EXPECT_LE(empty.bytes(), 9600u);  // no larger than one full Scan Context
+  for (auto v : empty.image) ASSERT_EQ(v, 0);
+  for (auto v : empty.key) ASSERT_EQ(v, 0);
+  EXPECT_DOUBLE_EQ(match_keys(empty, empty, config.angles).distance, 1.0);
+  const BirdsEyePose pose = birds_eye_pose(empty, empty, 0.0, config);
+  EXPECT_EQ(pose.score, 0.0);
+}
+
+TEST(BirdsEyePlace, GroundAndUnusablePointsLeaveNoTrace) {
+  const Scan s = scan_at(street_world(1), 0, 0, 0);
+  Scan with = s;
+  for (int i = 0; i < 500; ++i) {  // ground below the structure height, and NaN heights
+    with.x.push_back(float(i % 50) - 25.f);
+    with.z.push_back(float(i / 50) - 5.f);
+    with.y.push_back(i % 7 == 0 ? NAN : 1.7f);
+  }
+  const BirdsEyePlace a = describe(s), b = describe(with);
+  EXPECT_EQ(a.image, b.image);
+  EXPECT_EQ(a.key, b.key);
+}
+
+TEST(BirdsEyePlace, InvalidConfigurationsAreRefused) {
+  BirdsEyePlaceConfig c;
+  c.cell_m = 0;
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c = {};
+  c.taper_end_m = c.taper_start_m;
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c = {};
+  c.spectrum_size = 32;  // smaller than the 60-cell image
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  c = {};
+  c.max_frequency = 80;  // beyond the spectrum's Nyquist frequency
+  EXPECT_THROW(validate(c), std::invalid_argument);
+  const BirdsEyePlace a = describe(scan_at(street_world(1), 0, 0, 0));
+  BirdsEyePlace cut = a;
+  cut.key.pop_back();
+  EXPECT_THROW(match_keys(a, cut, c.angles), std::invalid_argument);
+  cut = a;
+  cut.image.pop_back();
+  EXPECT_THROW(birds_eye_pose(a, cut, 0.0, c), std::invalid_argument);
+}
+
+// A turn of the place shifts its key: the key's yaw is the turn modulo pi, and a translation
+// barely changes the key.
+TEST(BirdsEyePlace, KeyGivesTheYawAndIgnoresTranslation) {
+  const auto world = street_world(3);
+  const BirdsEyePlaceConfig config;
+  const double step = M_PI / config.angles;
+  const BirdsEyePlace place = describe(scan_at(world, 0, 0, 0));
+  for (int k = 0; k < 12; ++k) {
+    const double psi = -M_PI + k * 2 * M_PI / 12 + 0.01;
+    const BirdsEyePlace query = describe(scan_at(world, 0, 0, psi));
+    const BirdsEyeKeyMatch m = match_keys(query, place, config.angles);
+    // The place's yaw in the query frame is -psi (see BirdsEyePose), modulo pi.
+    const double err = std::min(angle_error(m.yaw_rad, -psi), angle_error(m.yaw_rad, -psi + M_PI));
+    EXPECT_LE(err, 1.01 * step) << "psi " << psi;
+    EXPECT_LT(m.distance, 0.1) << "psi " << psi;
+  }
+  const BirdsEyePlace moved = describe(scan_at(world, 3.5, 4.0, 0));
+  const BirdsEyePlace elsewhere = describe(scan_at(street_world(11), 0, 0, 0));
+  EXPECT_LT(match_keys(moved, place, config.angles).distance,
+            0.5 * match_keys(elsewhere, place, config.angles).distance);
+}
+
+TEST(BirdsEyeMatch, CorrelationEqualsTheOracle) {
+  const auto world = street_world(5);
+  const BirdsEyePlaceConfig config;
+  const BirdsEyePlace q = describe(scan_at(world, 1.0, 2.0, 0.3));
+  const BirdsEyePlace d = describe(scan_at(world, -2.0, 0.0, 2.9));
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> yaw(-M_PI, M_PI);
+  const int m = 4;
+  for (int trial = 0; trial < 4; ++trial) {
+    const double y = yaw(rng);
+    const std::vector<double> corr = birds_eye_correlation(q, d, y, config, m);
+    ASSERT_EQ(corr.size(), std::size_t((2 * m + 1) * (2 * m + 1)));
+    for (int dz = -m; dz <= m; ++dz) {
+      for (int dx = -m; dx <= m; ++dx) {
+        const double expected = oracle_correlation(q, d, y, dx, dz, config);
+        EXPECT_NEAR(corr[(dz + m) * (2 * m + 1) + dx + m], expected, 1e-6 * (1 + expected));
+      }
+    }
+  }
+}
+
+// Revisits from any direction, up to 4 m aside and 6 m along: the pose search, which tries
+// only the key's yaw and the yaw plus pi, finds the best pose of a brute-force search over
+// every yaw (a key angle apart) and every whole-cell shift, and that pose is the truth.
+TEST(BirdsEyeMatch, PoseSearchMatchesBruteForceAndTheTruth) {
+  const BirdsEyePlaceConfig config;
+  BirdsEyeSearchConfig search;
+  search.max_shift_m = 8.0;
+  const int m = 8;
+  const double step = M_PI / config.angles;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 6; ++trial) {
+    const auto world = street_world(20 + trial);
+    const double psi_p = M_PI * u(rng), psi_q = M_PI * u(rng);
+    const double pz = 10 * u(rng), qx = 4 * u(rng), qz = pz + 6 * u(rng);
+    const BirdsEyePlace place = describe(scan_at(world, 0, pz, psi_p));
+    const BirdsEyePlace query = describe(scan_at(world, qx, qz, psi_q));
+    const BirdsEyeKeyMatch key = match_keys(query, place, config.angles);
+    const BirdsEyePose found = birds_eye_pose(query, place, key.yaw_rad, config, search);
+    double best = -1, best_yaw = 0;
+    int best_dx = 0, best_dz = 0;
+    for (int k = 0; k < 2 * config.angles; ++k) {
+      const std::vector<double> corr = birds_eye_correlation(query, place, k * step, config, m);
+      for (int i = 0; i < int(corr.size()); ++i) {
+        if (corr[i] > best) {
+          best = corr[i], best_yaw = k * step;
+          best_dx = i % (2 * m + 1) - m, best_dz = i / (2 * m + 1) - m;
+        }
+      }
+    }
+    SCOPED_TRACE(testing::Message() << "trial " << trial << " psi_p " << psi_p << " psi_q " << psi_q);
+    EXPECT_GE(found.score, best - 1e-9);
+    EXPECT_LE(angle_error(found.yaw_rad, best_yaw), 1.01 * step);
+    EXPECT_LE(std::abs(found.x_m - best_dx * config.cell_m), 0.5 * config.cell_m + 1e-9);
+    EXPECT_LE(std::abs(found.z_m - best_dz * config.cell_m), 0.5 * config.cell_m + 1e-9);
+    // The truth: place point p_d lies at R(psi_p - psi_q) p_d + R(psi_q)^T (c_p - c_q).
+    const double c = std::cos(psi_q), s = std::sin(psi_q);
+    const double tx = c * (0 - qx) + s * (pz - qz), tz = -s * (0 - qx) + c * (pz - qz);
+    EXPECT_LE(angle_error(found.yaw_rad, psi_p - psi_q), 2.01 * step);
+    EXPECT_LE(std::hypot(found.x_m - tx, found.z_m - tz), 1.0);
+    EXPECT_GT(found.score, 0.5);
+  }
+}
+
+}  // namespace
+}  // namespace loopscan
