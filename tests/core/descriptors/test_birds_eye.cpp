@@ -134,6 +134,28 @@ TEST(BirdsEyePlace, GroundAndUnusablePointsLeaveNoTrace) {
   EXPECT_EQ(a.key, b.key);
 }
 
+// Two cells near the keyframe (full weight): one point 8 m up, nine points 2 m up.
+TEST(BirdsEyePlace, CellsHoldDensityOrHeight) {
+  std::vector<float> x = {0.5f}, y = {-8.f}, z = {5.5f};
+  for (int i = 0; i < 9; ++i) {
+    x.push_back(-4.5f);
+    y.push_back(-2.f);
+    z.push_back(2.5f);
+  }
+  BirdsEyePlaceConfig config;  // min_height_m -1: heights over it are 9 and 3
+  const int n = image_side(config), high = (30 + 5) * n + 30, low = (30 + 2) * n + 25;
+  const BirdsEyePlace density = describe_birds_eye(x.data(), y.data(), z.data(), x.size(), config);
+  EXPECT_EQ(density.image[low], 255);
+  EXPECT_EQ(density.image[high], 85);  // sqrt(1) / sqrt(9)
+  config.cell = BirdsEyeCell::Height;
+  const BirdsEyePlace height = describe_birds_eye(x.data(), y.data(), z.data(), x.size(), config);
+  EXPECT_EQ(height.image[high], 255);
+  EXPECT_EQ(height.image[low], 85);  // 3 / 9
+  int lit = 0;
+  for (auto v : height.image) lit += v != 0;
+  EXPECT_EQ(lit, 2);
+}
+
 TEST(BirdsEyePlace, InvalidConfigurationsAreRefused) {
   BirdsEyePlaceConfig c;
   c.cell_m = 0;
@@ -176,6 +198,56 @@ TEST(BirdsEyePlace, KeyGivesTheYawAndIgnoresTranslation) {
   const BirdsEyePlace elsewhere = describe(scan_at(street_world(11), 0, 0, 0));
   EXPECT_LT(match_keys(moved, place, config.angles).distance,
             0.5 * match_keys(elsewhere, place, config.angles).distance);
+}
+
+// The key correlation at one shift, straight from the definition: q[a] against d[a - shift].
+double key_correlation(const BirdsEyePlace& q, const BirdsEyePlace& d, int angles, int shift) {
+  double dot = 0, qq = 0, dd = 0;
+  for (std::size_t i = 0; i < q.key.size(); ++i) {
+    const std::size_t ring = i / angles, a = i % angles;
+    dot += double(q.key[i]) * d.key[ring * angles + (a + angles - shift) % angles];
+    qq += double(q.key[i]) * q.key[i];
+    dd += double(d.key[i]) * d.key[i];
+  }
+  return dot / std::sqrt(qq * dd);
+}
+
+// Keys exactly and through their spectra: the same best correlation (the spectral path may
+// pick another shift only where the two tie within float rounding), against brute force.
+TEST(BirdsEyeMatch, KeySpectraAgreeWithTheDefinition) {
+  const BirdsEyePlaceConfig config;
+  std::vector<std::pair<BirdsEyePlace, int>> places;  // with its angle count
+  for (unsigned w = 0; w < 3; ++w) {
+    const auto world = street_world(40 + w);
+    for (int k = 0; k < 4; ++k) {
+      places.push_back({describe(scan_at(world, 2.0 * k, 5.0 * k, 0.7 * k)), config.angles});
+    }
+  }
+  std::mt19937 rng(4);  // and keys of noise, with an even and an odd angle count
+  for (int angles : {60, 45}) {
+    for (int k = 0; k < 2; ++k) {
+      BirdsEyePlace p;
+      p.key.resize(std::size_t(7) * angles);
+      for (auto& v : p.key) v = std::int8_t(int(rng() % 255) - 127);
+      places.push_back({p, angles});
+    }
+  }
+  int pairs = 0;
+  for (const auto& [q, angles] : places) {
+    for (const auto& [d, d_angles] : places) {
+      if (q.key.size() != d.key.size() || angles != d_angles) continue;
+      double best = -2;
+      for (int s = 0; s < angles; ++s) best = std::max(best, key_correlation(q, d, angles, s));
+      const BirdsEyeKeyMatch exact = match_keys(q, d, angles);
+      const BirdsEyeKeyMatch fast = match_key_spectra(key_spectrum(q, angles), key_spectrum(d, angles));
+      EXPECT_NEAR(exact.distance, 1 - best, 1e-12);
+      EXPECT_NEAR(fast.distance, exact.distance, 1e-5);
+      const int shift = int(std::lround(fast.yaw_rad * angles / M_PI)) % angles;
+      EXPECT_NEAR(key_correlation(q, d, angles, shift), best, 1e-5);
+      ++pairs;
+    }
+  }
+  EXPECT_EQ(pairs, 12 * 12 + 2 * 2 + 2 * 2);
 }
 
 TEST(BirdsEyeMatch, CorrelationEqualsTheOracle) {

@@ -15,8 +15,9 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("birds_eye: " + what);
 }
 
-// |2D DFT| of the image zero-padded to n x n, log-compressed, row-major (row = z frequency).
-std::vector<float> log_magnitude(const std::vector<float>& image, int side, int n) {
+// |2D DFT| of the image zero-padded to n x n, log-compressed, row-major (row = z frequency);
+// only the columns within `band` frequencies of zero (the key samples no others).
+std::vector<float> log_magnitude(const std::vector<float>& image, int side, int n, int band) {
   std::vector<std::complex<float>> grid(std::size_t(n) * std::size_t(n));
   Eigen::FFT<float> fft;
   std::vector<std::complex<float>> in(n), out(n);
@@ -27,6 +28,7 @@ std::vector<float> log_magnitude(const std::vector<float>& image, int side, int 
     std::copy(out.begin(), out.end(), grid.begin() + std::ptrdiff_t(r) * n);
   }
   for (int c = 0; c < n; ++c) {
+    if (std::min(c, n - c) > band) continue;
     for (int r = 0; r < n; ++r) in[r] = grid[std::size_t(r) * n + c];
     fft.fwd(out, in);
     for (int r = 0; r < n; ++r) grid[std::size_t(r) * n + c] = out[r];
@@ -77,7 +79,12 @@ std::vector<float> birds_eye_image(const float* x, const float* y, const float* 
     if (!(-double(y[i]) > config.min_height_m)) continue;  // also drops NaN heights
     const double c = std::floor((double(x[i]) + R) * inv), r = std::floor((double(z[i]) + R) * inv);
     if (!(c >= 0 && c < side && r >= 0 && r < side)) continue;
-    image[std::size_t(r) * side + std::size_t(c)] += 1.f;
+    float& v = image[std::size_t(r) * side + std::size_t(c)];
+    if (config.cell == BirdsEyeCell::Density) {
+      v += 1.f;
+    } else {
+      v = std::max(v, float(-double(y[i]) - config.min_height_m));
+    }
   }
   const double span = config.taper_end_m - config.taper_start_m;
   for (int r = 0; r < side; ++r) {
@@ -87,7 +94,8 @@ std::vector<float> birds_eye_image(const float* x, const float* y, const float* 
       const double d = std::hypot((c + 0.5) * config.cell_m - R, (r + 0.5) * config.cell_m - R);
       const double w = std::clamp((config.taper_end_m - d) / span, 0.0, 1.0);
       const double s = std::sin(w * M_PI / 2);
-      v = float(std::sqrt(double(v)) * s * s);
+      const double value = config.cell == BirdsEyeCell::Density ? std::sqrt(double(v)) : double(v);
+      v = float(value * s * s);
     }
   }
   return image;
@@ -107,7 +115,8 @@ BirdsEyePlace describe_birds_eye(const float* x, const float* y, const float* z,
     place.image[i] = std::uint8_t(std::lround(255.0 * image[i] / top));
   }
   const int N = config.spectrum_size;
-  const std::vector<float> magnitude = log_magnitude(image, place.side, N);
+  const int band = int(std::ceil(config.max_frequency)) + 1;  // bilinear reaches one bin out
+  const std::vector<float> magnitude = log_magnitude(image, place.side, N, band);
   std::vector<double> key(place.key.size());
   const double ring_step =
       config.rings > 1 ? (config.max_frequency - config.min_frequency) / (config.rings - 1) : 0;

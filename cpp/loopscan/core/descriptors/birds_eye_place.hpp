@@ -12,7 +12,13 @@
 
 namespace loopscan {
 
+// What a cell of the image holds: the square root of its structure points (how much was seen
+// there; the better within one season), or the height of its highest point over min_height_m
+// (what stands there, whatever the density of the VO's points; the better across seasons).
+enum class BirdsEyeCell { Density, Height };
+
 struct BirdsEyePlaceConfig {
+  BirdsEyeCell cell = BirdsEyeCell::Density;
   double cell_m = 1.0;
   double range_m = 30.0;        // the image spans [-range_m, range_m] in x and z
   double taper_start_m = 10.0;  // cell weights fall smoothly to zero from here to taper_end_m

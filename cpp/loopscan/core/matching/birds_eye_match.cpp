@@ -67,6 +67,36 @@ double vertex_offset(double a, double b, double c) {
   return std::clamp(0.5 * (a - c) / curvature, -0.5, 0.5);
 }
 
+// cos and sin of 2 pi i / A, and per shift s the terms' cos and sin of 2 pi k s / A.
+struct UnitCircle {
+  int angles = 0;
+  std::vector<double> cos, sin;
+  std::vector<float> shift_cos, shift_sin;  // angles x (angles / 2 + 1)
+};
+
+const UnitCircle& unit_circle(int angles) {
+  thread_local UnitCircle circle;
+  if (circle.angles == angles) return circle;
+  const int terms = angles / 2 + 1;
+  circle.angles = angles;
+  circle.cos.resize(angles);
+  circle.sin.resize(angles);
+  for (int i = 0; i < angles; ++i) {
+    circle.cos[i] = std::cos(2 * M_PI * i / angles);
+    circle.sin[i] = std::sin(2 * M_PI * i / angles);
+  }
+  circle.shift_cos.resize(std::size_t(angles) * terms);
+  circle.shift_sin.resize(std::size_t(angles) * terms);
+  for (int s = 0; s < angles; ++s) {
+    for (int k = 0; k < terms; ++k) {
+      const int i = (k * s) % angles;
+      circle.shift_cos[std::size_t(s) * terms + k] = float(circle.cos[i]);
+      circle.shift_sin[std::size_t(s) * terms + k] = float(circle.sin[i]);
+    }
+  }
+  return circle;
+}
+
 }  // namespace
 
 BirdsEyeKeyMatch match_keys(const BirdsEyePlace& query, const BirdsEyePlace& place, int angles) {
@@ -97,6 +127,82 @@ BirdsEyeKeyMatch match_keys(const BirdsEyePlace& query, const BirdsEyePlace& pla
   }
   best.distance = 1.0 - top / norms;
   best.yaw_rad = top_shift * M_PI / angles;
+  return best;
+}
+
+BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
+  if (angles < 2 || place.key.size() % std::size_t(angles) != 0) {
+    throw std::invalid_argument("birds_eye: a key of whole rings of " + std::to_string(angles) +
+                                " angles expected");
+  }
+  BirdsEyeKeySpectrum s;
+  s.rings = int(place.key.size()) / angles;
+  s.angles = angles;
+  const int terms = angles / 2 + 1;
+  s.re.assign(std::size_t(s.rings) * terms, 0.f);
+  s.im.assign(std::size_t(s.rings) * terms, 0.f);
+  s.norm = std::sqrt(squared_norm(place.key));
+  const UnitCircle& circle = unit_circle(angles);
+  for (int r = 0; r < s.rings; ++r) {
+    const std::int8_t* v = place.key.data() + std::size_t(r) * angles;
+    for (int k = 0; k < terms; ++k) {
+      double re = 0, im = 0;
+      for (int a = 0; a < angles; ++a) {
+        const int i = int((std::int64_t(k) * a) % angles);  // e^{-2 pi i k a / A}
+        re += v[a] * circle.cos[i];
+        im -= v[a] * circle.sin[i];
+      }
+      s.re[std::size_t(r) * terms + k] = float(re);
+      s.im[std::size_t(r) * terms + k] = float(im);
+    }
+  }
+  return s;
+}
+
+BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrum& query,
+                                   const BirdsEyeKeySpectrum& place) {
+  if (query.rings != place.rings || query.angles != place.angles || query.angles < 2) {
+    throw std::invalid_argument("birds_eye: key spectra of the same rings and angles expected");
+  }
+  BirdsEyeKeyMatch best;
+  const double norms = query.norm * place.norm;
+  if (!(norms > 0)) return best;
+  const int A = query.angles, terms = A / 2 + 1;
+  // X_k = sum over rings of Q_k conj(D_k): the cross spectrum of the two keys.
+  thread_local std::vector<float> xr, xi;
+  xr.assign(terms, 0.f);
+  xi.assign(terms, 0.f);
+  for (int r = 0; r < query.rings; ++r) {
+    const float* qr = query.re.data() + std::size_t(r) * terms;
+    const float* qi = query.im.data() + std::size_t(r) * terms;
+    const float* dr = place.re.data() + std::size_t(r) * terms;
+    const float* di = place.im.data() + std::size_t(r) * terms;
+    for (int k = 0; k < terms; ++k) {
+      xr[k] += qr[k] * dr[k] + qi[k] * di[k];
+      xi[k] += qi[k] * dr[k] - qr[k] * di[k];
+    }
+  }
+  // corr(s) = (1/A) sum_k X_k e^{2 pi i k s / A}, the conjugate-symmetric half counted twice.
+  const UnitCircle& circle = unit_circle(A);
+  for (int k = 1; k < terms; ++k) {
+    const float w = (2 * k == A) ? 1.f : 2.f;
+    xr[k] *= w;
+    xi[k] *= w;
+  }
+  double top = -1e300;
+  int top_shift = 0;
+  for (int s = 0; s < A; ++s) {
+    const float* c = circle.shift_cos.data() + std::size_t(s) * terms;
+    const float* sn = circle.shift_sin.data() + std::size_t(s) * terms;
+    float sum = 0.f;
+    for (int k = 0; k < terms; ++k) sum += xr[k] * c[k] - xi[k] * sn[k];
+    if (sum > top) {
+      top = sum;
+      top_shift = s;
+    }
+  }
+  best.distance = 1.0 - top / (A * norms);
+  best.yaw_rad = top_shift * M_PI / A;
   return best;
 }
 

@@ -14,6 +14,19 @@ struct BirdsEyeKeyMatch {
 // Throws std::invalid_argument when the keys differ in size or do not hold `angles` columns.
 BirdsEyeKeyMatch match_keys(const BirdsEyePlace& query, const BirdsEyePlace& place, int angles);
 
+// A key ready for fast matching: per ring, the DFT along the angles (A/2 + 1 terms of a real
+// signal), and the key's norm. match_key_spectra gives match_keys' result up to float rounding
+// (a shift whose correlation ties another's within that rounding may be chosen instead).
+struct BirdsEyeKeySpectrum {
+  int rings = 0, angles = 0;
+  std::vector<float> re, im;  // rings x (angles / 2 + 1)
+  double norm = 0;
+};
+BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles);
+// Throws std::invalid_argument when the spectra differ in rings or angles.
+BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrum& query,
+                                   const BirdsEyeKeySpectrum& place);
+
 // The place in the query's camera frame on the ground plane: a place point (x, z) lies at
 // R(yaw) (x, z) + (x_m, z_m) in the query, R turning x towards z; yaw is about the camera's up
 // axis (-y), positive to the left, in (-pi, pi].
