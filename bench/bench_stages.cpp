@@ -10,6 +10,7 @@
 
 #include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/keyframe_stream.hpp"
+#include "loopscan/core/matching/birds_eye_match.hpp"
 #include "loopscan/core/matching/place_matcher.hpp"
 #include "loopscan/core/pipeline/recognizer.hpp"
 #include "loopscan/core/scan/camera_points.hpp"
@@ -188,6 +189,60 @@ void BM_RecognizerStream(benchmark::State& state) {
   per_item(state, d.poses.size());
 }
 
+// The bird's-eye place (docs/experiments/birds-eye-place.md) on the in-range points.
+const std::vector<BirdsEyePlace>& birds_eye_places() {
+  static const std::vector<BirdsEyePlace> places = [] {
+    std::vector<BirdsEyePlace> out;
+    for (const Cloud& c : data().in_range) {
+      const CameraPoints p = to_camera_points(c);
+      out.push_back(describe_birds_eye(p.x.data(), p.y.data(), p.z.data(), p.size()));
+    }
+    return out;
+  }();
+  return places;
+}
+
+void BM_BirdsEyeDescribe(benchmark::State& state) {
+  const Data& d = data();
+  std::vector<CameraPoints> scans;
+  for (const Cloud& c : d.in_range) scans.push_back(to_camera_points(c));
+  for (auto _ : state) {
+    for (const CameraPoints& p : scans) {
+      benchmark::DoNotOptimize(describe_birds_eye(p.x.data(), p.y.data(), p.z.data(), p.size()).key.data());
+    }
+  }
+  per_item(state, scans.size());
+}
+
+// One query's keys against 880 places (the described keyframes cycled), through the spectra.
+void BM_BirdsEyeKeyRow(benchmark::State& state) {
+  const BirdsEyePlaceConfig config;
+  std::vector<BirdsEyeKeySpectrum> keys;
+  for (const BirdsEyePlace& p : birds_eye_places()) keys.push_back(key_spectrum(p, config.angles));
+  std::size_t q = 0;
+  for (auto _ : state) {
+    const BirdsEyeKeySpectrum& query = keys[q++ % keys.size()];
+    double best = 2;
+    for (std::size_t j = 0; j < 880; ++j) best = std::min(best, match_key_spectra(query, keys[j % keys.size()]).distance);
+    benchmark::DoNotOptimize(best);
+  }
+  per_item(state, 1);
+}
+
+// The image search of one finalist (the key's yaw and the yaw plus pi, +-12 m).
+void BM_BirdsEyePose(benchmark::State& state) {
+  const BirdsEyePlaceConfig config;
+  const auto& places = birds_eye_places();
+  std::size_t q = 0;
+  for (auto _ : state) {
+    const BirdsEyePlace& a = places[q % places.size()];
+    const BirdsEyePlace& b = places[(q + 1) % places.size()];
+    ++q;
+    benchmark::DoNotOptimize(birds_eye_pose(a, b, match_keys(a, b, config.angles).yaw_rad, config).score);
+  }
+  per_item(state, 1);
+}
+
 constexpr int kRef = static_cast<int>(Mode::Reference), kDef = static_cast<int>(Mode::Default);
 constexpr int kCart = static_cast<int>(ScanFilter::Cartesian),
               kPol = static_cast<int>(ScanFilter::Polar);
@@ -238,6 +293,9 @@ BENCHMARK(BM_Query)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_QueryScanContextVersions)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RecognizerStream)->Unit(benchmark::kMillisecond)->Iterations(2);
+BENCHMARK(BM_BirdsEyeDescribe)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BirdsEyeKeyRow)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BirdsEyePose)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace loopscan

@@ -16,7 +16,7 @@ void require(bool ok, const std::string& what) {
 }
 
 // |2D DFT| of the image zero-padded to n x n, log-compressed, row-major (row = z frequency);
-// only the columns within `band` frequencies of zero (the key samples no others).
+// only within `band` frequencies of zero in both axes (the key samples no others; zero there).
 std::vector<float> log_magnitude(const std::vector<float>& image, int side, int n, int band) {
   std::vector<std::complex<float>> grid(std::size_t(n) * std::size_t(n));
   Eigen::FFT<float> fft;
@@ -33,8 +33,15 @@ std::vector<float> log_magnitude(const std::vector<float>& image, int side, int 
     fft.fwd(out, in);
     for (int r = 0; r < n; ++r) grid[std::size_t(r) * n + c] = out[r];
   }
-  std::vector<float> magnitude(grid.size());
-  for (std::size_t i = 0; i < grid.size(); ++i) magnitude[i] = std::log1p(std::abs(grid[i]));
+  std::vector<float> magnitude(grid.size(), 0.f);
+  for (int r = 0; r < n; ++r) {
+    if (std::min(r, n - r) > band) continue;
+    for (int c = 0; c < n; ++c) {
+      if (std::min(c, n - c) > band) continue;
+      const std::size_t i = std::size_t(r) * n + c;
+      magnitude[i] = std::log1p(std::abs(grid[i]));
+    }
+  }
   return magnitude;
 }
 

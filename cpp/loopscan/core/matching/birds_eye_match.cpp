@@ -218,21 +218,26 @@ std::vector<double> birds_eye_correlation(const BirdsEyePlace& query, const Bird
   for (std::uint8_t v : query.image) query_sq += double(v) * v;
   const double norms = std::sqrt(turned_sq * query_sq);
   if (!(norms > 0)) return out;
-  // Sparse over the turned place: most cells hold no structure.
+  // Sparse over the turned place (most cells hold no structure), against the query image
+  // padded by max_cells zeros on every side: each place cell adds a contiguous float run.
+  const int m = max_cells, p = n + 2 * m;
+  std::vector<float> padded(std::size_t(p) * std::size_t(p), 0.f);
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) padded[std::size_t(r + m) * p + c + m] = query.image[std::size_t(r) * n + c];
+  }
+  std::vector<float> sums(out.size(), 0.f);
   for (int r = 0; r < n; ++r) {
     for (int c = 0; c < n; ++c) {
-      const double v = turned[std::size_t(r) * n + c];
-      if (v == 0) continue;
-      for (int dz = -max_cells; dz <= max_cells; ++dz) {
-        const int qr = r + dz;
-        if (qr < 0 || qr >= n) continue;
-        const std::uint8_t* row = query.image.data() + std::size_t(qr) * n;
-        double* o = out.data() + std::size_t(dz + max_cells) * w + max_cells;
-        const int lo = std::max(-max_cells, -c), hi = std::min(max_cells, n - 1 - c);
-        for (int dx = lo; dx <= hi; ++dx) o[dx] += v * row[c + dx];
+      const float v = turned[std::size_t(r) * n + c];
+      if (v == 0.f) continue;
+      for (int dz = 0; dz < w; ++dz) {  // query row r + dz - m, columns c - m .. c + m
+        const float* row = padded.data() + std::size_t(r + dz) * p + c;
+        float* o = sums.data() + std::size_t(dz) * w;
+        for (int dx = 0; dx < w; ++dx) o[dx] += v * row[dx];
       }
     }
   }
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = sums[i];
   for (double& v : out) v /= norms;
   return out;
 }

@@ -37,7 +37,7 @@ struct BirdsEyePose {
 
 struct BirdsEyeSearchConfig {
   double max_shift_m = 12.0;  // searched in x and z around the keyframes' offset of zero
-  int yaw_steps = 1;          // extra yaws each side of the key's, one key angle apart
+  int yaw_steps = 0;          // extra yaws each side of the key's, one key angle apart
 };
 
 // The best pose over the key's yaw, the yaw plus pi (and yaw_steps around each) and every
