@@ -1,5 +1,6 @@
 // The bird's-eye search against a brute-force scorer of every (yaw, shift), and its poses on
-// street scenes seen the other way round and metres along the street from the guess.
+// street scenes seen the other way round and metres along the street from the guess; the core
+// bird's-eye place's pose in the closer's convention.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 
 #include "loopscan/closure/birds_eye.hpp"
 #include "loopscan/closure/verification.hpp"
+#include "loopscan/core/matching/birds_eye_match.hpp"
 #include "scene_points.hpp"
 
 namespace loopscan {
@@ -119,6 +121,32 @@ TEST(BirdsEye, PlaceWithoutStructureInRangeGivesNoPose) {
   far.points = {Eigen::Vector3f(0, 0, 500), Eigen::Vector3f(0, 1.6f, 2)};
   far.structure = 1;  // the second point is ground
   EXPECT_TRUE(closure::birds_eye_search(grid, far, {Eigen::Isometry3d::Identity()}).empty());
+}
+
+// The bird's-eye place (core) finds the same pose of a place driven the other way as the
+// closer's convention states it: its (x, z, yaw) seeds an alignment as it is.
+TEST(BirdsEye, PlacePoseOfTheCoreDescriptorIsTheClosersPose) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const BirdsEyePlaceConfig config;
+  auto describe = [&](const closure::PlaceCloud& c) {
+    std::vector<float> x, y, z;
+    for (const Eigen::Vector3f& p : c.points) x.push_back(p.x()), y.push_back(p.y()), z.push_back(p.z());
+    return describe_birds_eye(x.data(), y.data(), z.data(), x.size(), config);
+  };
+  for (int trial = 0; trial < 5; ++trial) {
+    SCOPED_TRACE(trial);
+    const Eigen::Isometry3d T = Eigen::Translation3d(2.5 * u(rng), 0.0, 7 * u(rng)) *
+                                closure::yaw_rotation(M_PI + 15 * M_PI / 180 * u(rng));
+    const auto [query_cloud, place_cloud] = query_and_place(300 + unsigned(trial), T);
+    const BirdsEyePlace query = describe(query_cloud), place = describe(place_cloud);
+    const BirdsEyePose pose =
+        birds_eye_pose(query, place, match_keys(query, place, config.angles).yaw_rad, config);
+    const Eigen::Isometry3d found = Eigen::Translation3d(pose.x_m, 0.0, pose.z_m) *
+                                    closure::yaw_rotation(pose.yaw_rad);
+    EXPECT_LT(yaw_difference_deg(found, T), 6.0);
+    EXPECT_LT((found.translation() - T.translation()).norm(), 1.0);
+  }
 }
 
 TEST(BirdsEye, ConfigRangesAreChecked) {
