@@ -15,46 +15,76 @@ void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("birds_eye: " + what);
 }
 
-// |2D DFT| of the image zero-padded to n x n, log-compressed, row-major (row = z frequency);
-// only within `band` frequencies of zero in both axes (the key samples no others; zero there).
-std::vector<float> log_magnitude(const std::vector<float>& image, int side, int n, int band) {
-  std::vector<std::complex<float>> grid(std::size_t(n) * std::size_t(n));
-  Eigen::FFT<float> fft;
-  std::vector<std::complex<float>> in(n), out(n);
-  for (int r = 0; r < side; ++r) {  // rows beyond the image are zero and stay zero
-    std::fill(in.begin(), in.end(), std::complex<float>(0.f));
-    for (int c = 0; c < side; ++c) in[c] = image[std::size_t(r) * side + c];
-    fft.fwd(out, in);
-    std::copy(out.begin(), out.end(), grid.begin() + std::ptrdiff_t(r) * n);
-  }
-  for (int c = 0; c < n; ++c) {
-    if (std::min(c, n - c) > band) continue;
-    for (int r = 0; r < n; ++r) in[r] = grid[std::size_t(r) * n + c];
-    fft.fwd(out, in);
-    for (int r = 0; r < n; ++r) grid[std::size_t(r) * n + c] = out[r];
-  }
-  std::vector<float> magnitude(grid.size(), 0.f);
-  for (int r = 0; r < n; ++r) {
-    if (std::min(r, n - r) > band) continue;
-    for (int c = 0; c < n; ++c) {
-      if (std::min(c, n - c) > band) continue;
-      const std::size_t i = std::size_t(r) * n + c;
-      magnitude[i] = std::log1p(std::abs(grid[i]));
+// log(1 + |2D DFT|) of the image zero-padded to n x n, at the frequencies the key samples:
+// z frequency u in [0, band], x frequency v in [-band, band]. The image is real: rows go
+// through real transforms, and only the columns of non-negative v are transformed, the others
+// being point reflections (|F(-u, -v)| = |F(u, v)|).
+class LogMagnitude {
+ public:
+  LogMagnitude(const std::vector<float>& image, int side, int n, int band)
+      : band_(band), values_(std::size_t(band + 1) * std::size_t(2 * band + 1), 0.f) {
+    const int cols = band + 1;  // v = 0 .. band
+    std::vector<std::complex<float>> half(std::size_t(n) * std::size_t(cols));
+    Eigen::FFT<float> real_fft, fft;
+    real_fft.SetFlag(Eigen::FFT<float>::HalfSpectrum);
+    std::vector<float> row(n, 0.f);
+    std::vector<std::complex<float>> in(n), out(n);
+    for (int r = 0; r < side; ++r) {  // rows beyond the image are zero and stay zero
+      std::copy(image.begin() + std::ptrdiff_t(r) * side,
+                image.begin() + std::ptrdiff_t(r + 1) * side, row.begin());
+      real_fft.fwd(out, row);
+      std::copy(out.begin(), out.begin() + cols, half.begin() + std::ptrdiff_t(r) * cols);
+    }
+    for (int c = 0; c < cols; ++c) {
+      for (int r = 0; r < n; ++r) in[r] = half[std::size_t(r) * cols + c];
+      fft.fwd(out, in);
+      for (int u = 0; u <= band; ++u) {
+        at(u, c) = std::log1p(std::abs(out[u]));
+        if (c > 0) at(u, -c) = std::log1p(std::abs(out[(n - u) % n]));  // F(u, -c) = conj F(-u, c)
+      }
     }
   }
-  return magnitude;
-}
 
-// Bilinear sample of a periodic n x n grid at fractional (row, col).
-float periodic_sample(const std::vector<float>& grid, int n, double row, double col) {
-  const double r0 = std::floor(row), c0 = std::floor(col);
-  const double fr = row - r0, fc = col - c0;
-  auto at = [&](double r, double c) {
-    const int ri = ((int(r) % n) + n) % n, ci = ((int(c) % n) + n) % n;
-    return double(grid[std::size_t(ri) * n + ci]);
-  };
-  return float((1 - fr) * ((1 - fc) * at(r0, c0) + fc * at(r0, c0 + 1)) +
-               fr * ((1 - fc) * at(r0 + 1, c0) + fc * at(r0 + 1, c0 + 1)));
+  // Bilinear at fractional (u, v), u in [0, band - 1], v in [-band, band - 1].
+  float sample(double u, double v) const {
+    const double u0 = std::floor(u), v0 = std::floor(v), fu = u - u0, fv = v - v0;
+    const int ui = int(u0), vi = int(v0);
+    return float((1 - fu) * ((1 - fv) * value(ui, vi) + fv * value(ui, vi + 1)) +
+                 fu * ((1 - fv) * value(ui + 1, vi) + fv * value(ui + 1, vi + 1)));
+  }
+
+ private:
+  float& at(int u, int v) { return values_[std::size_t(u) * (2 * band_ + 1) + std::size_t(v + band_)]; }
+  double value(int u, int v) const {
+    return values_[std::size_t(u) * (2 * band_ + 1) + std::size_t(v + band_)];
+  }
+
+  int band_;
+  std::vector<float> values_;  // (band + 1) x (2 band + 1)
+};
+
+// Per cell, the weight at its centre: 1 within taper_start_m of the keyframe, sin^2 falling to
+// 0 at taper_end_m. Kept per thread for the last configuration.
+const std::vector<float>& taper_weights(const BirdsEyePlaceConfig& config) {
+  thread_local std::vector<float> weights;
+  thread_local double cell = 0, range = 0, start = 0, end = 0;
+  if (cell == config.cell_m && range == config.range_m && start == config.taper_start_m &&
+      end == config.taper_end_m && !weights.empty()) {
+    return weights;
+  }
+  const int side = image_side(config);
+  weights.assign(std::size_t(side) * side, 0.f);
+  const double span = config.taper_end_m - config.taper_start_m, R = config.range_m;
+  for (int r = 0; r < side; ++r) {
+    for (int c = 0; c < side; ++c) {
+      const double d = std::hypot((c + 0.5) * config.cell_m - R, (r + 0.5) * config.cell_m - R);
+      const double w = std::clamp((config.taper_end_m - d) / span, 0.0, 1.0);
+      const double s = std::sin(w * M_PI / 2);
+      weights[std::size_t(r) * side + c] = float(s * s);
+    }
+  }
+  cell = config.cell_m, range = config.range_m, start = config.taper_start_m, end = config.taper_end_m;
+  return weights;
 }
 
 }  // namespace
@@ -81,29 +111,21 @@ std::vector<float> birds_eye_image(const float* x, const float* y, const float* 
                                    const BirdsEyePlaceConfig& config) {
   const int side = image_side(config);
   std::vector<float> image(std::size_t(side) * side, 0.f);
-  const double inv = 1.0 / config.cell_m, R = config.range_m;
+  const float inv = float(1.0 / config.cell_m), R = float(config.range_m);
+  const float min_height = float(config.min_height_m), limit = float(side);
+  const bool density = config.cell == BirdsEyeCell::Density;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!(-double(y[i]) > config.min_height_m)) continue;  // also drops NaN heights
-    const double c = std::floor((double(x[i]) + R) * inv), r = std::floor((double(z[i]) + R) * inv);
-    if (!(c >= 0 && c < side && r >= 0 && r < side)) continue;
-    float& v = image[std::size_t(r) * side + std::size_t(c)];
-    if (config.cell == BirdsEyeCell::Density) {
-      v += 1.f;
-    } else {
-      v = std::max(v, float(-double(y[i]) - config.min_height_m));
-    }
+    const float height = -y[i];
+    const float fc = (x[i] + R) * inv, fr = (z[i] + R) * inv;
+    // Negated tests also drop NaN coordinates and heights.
+    if (!(height > min_height && fc >= 0.f && fc < limit && fr >= 0.f && fr < limit)) continue;
+    float& v = image[std::size_t(fr) * side + std::size_t(fc)];  // truncation: floor here
+    v = density ? v + 1.f : std::max(v, height - min_height);
   }
-  const double span = config.taper_end_m - config.taper_start_m;
-  for (int r = 0; r < side; ++r) {
-    for (int c = 0; c < side; ++c) {
-      float& v = image[std::size_t(r) * side + c];
-      if (v == 0.f) continue;
-      const double d = std::hypot((c + 0.5) * config.cell_m - R, (r + 0.5) * config.cell_m - R);
-      const double w = std::clamp((config.taper_end_m - d) / span, 0.0, 1.0);
-      const double s = std::sin(w * M_PI / 2);
-      const double value = config.cell == BirdsEyeCell::Density ? std::sqrt(double(v)) : double(v);
-      v = float(value * s * s);
-    }
+  const std::vector<float>& weights = taper_weights(config);
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    if (image[i] == 0.f) continue;
+    image[i] = (density ? std::sqrt(image[i]) : image[i]) * weights[i];
   }
   return image;
 }
@@ -123,7 +145,7 @@ BirdsEyePlace describe_birds_eye(const float* x, const float* y, const float* z,
   }
   const int N = config.spectrum_size;
   const int band = int(std::ceil(config.max_frequency)) + 1;  // bilinear reaches one bin out
-  const std::vector<float> magnitude = log_magnitude(image, place.side, N, band);
+  const LogMagnitude magnitude(image, place.side, N, band);
   std::vector<double> key(place.key.size());
   const double ring_step =
       config.rings > 1 ? (config.max_frequency - config.min_frequency) / (config.rings - 1) : 0;
@@ -132,7 +154,7 @@ BirdsEyePlace describe_birds_eye(const float* x, const float* y, const float* z,
     double mean = 0;
     for (int a = 0; a < config.angles; ++a) {
       const double theta = a * M_PI / config.angles;  // from the x axis towards z
-      const double v = periodic_sample(magnitude, N, rho * std::sin(theta), rho * std::cos(theta));
+      const double v = magnitude.sample(rho * std::sin(theta), rho * std::cos(theta));
       key[std::size_t(ring) * config.angles + a] = v;
       mean += v;
     }
