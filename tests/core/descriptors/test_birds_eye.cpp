@@ -167,9 +167,13 @@ TEST(BirdsEyePlace, InvalidConfigurationsAreRefused) {
   c.spectrum_size = 32;  // smaller than the 60-cell image
   EXPECT_THROW(validate(c), std::invalid_argument);
   c = {};
-  c.max_frequency = 80;  // beyond the spectrum's Nyquist frequency
+  c.max_frequency = 63.5;  // samples reach past the spectrum's Nyquist frequency (64)
   EXPECT_THROW(validate(c), std::invalid_argument);
-  const BirdsEyePlace a = describe(scan_at(street_world(1), 0, 0, 0));
+  c.max_frequency = 63;  // the highest allowed: describes
+  const Scan s = scan_at(street_world(1), 0, 0, 0);
+  EXPECT_EQ(describe(s, c).key.size(), std::size_t(c.rings * c.angles));
+  c = {};
+  const BirdsEyePlace a = describe(s);
   BirdsEyePlace cut = a;
   cut.key.pop_back();
   EXPECT_THROW(match_keys(a, cut, c.angles), std::invalid_argument);

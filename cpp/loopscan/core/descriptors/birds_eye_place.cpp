@@ -96,9 +96,10 @@ void validate(const BirdsEyePlaceConfig& c) {
           "taper_end_m must exceed taper_start_m >= 0");
   require(std::isfinite(c.min_height_m), "min_height_m must be finite");
   require(c.rings >= 1 && c.angles >= 2, "rings >= 1 and angles >= 2");
+  // The key's bilinear samples reach one frequency past max_frequency, below Nyquist.
   require(c.min_frequency >= 0 && c.max_frequency >= c.min_frequency &&
-              c.max_frequency <= c.spectrum_size / 2.0,
-          "0 <= min_frequency <= max_frequency <= spectrum_size / 2");
+              c.max_frequency <= c.spectrum_size / 2.0 - 1,
+          "0 <= min_frequency <= max_frequency <= spectrum_size / 2 - 1");
   require(c.spectrum_size >= image_side(c) && c.spectrum_size <= 4096,
           "spectrum_size must hold the image (2 range_m / cell_m cells) and be <= 4096");
 }

@@ -37,7 +37,7 @@ int image_side(const BirdsEyePlaceConfig& config);
 
 struct BirdsEyePlace {
   int side = 0;                     // image cells per side
-  std::vector<std::uint8_t> image;  // side x side, row from z, column from x; 255 = densest
+  std::vector<std::uint8_t> image;  // side x side, row from z, column from x; 255 = the top cell
   std::vector<std::int8_t> key;     // rings x angles, ring means removed, max |value| = 127
   std::size_t bytes() const { return image.size() + key.size(); }
 };
