@@ -1,5 +1,7 @@
 #include "loopscan/closure/birds_eye.hpp"
 
+#include "loopscan/core/peak_vertex.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -18,12 +20,6 @@ struct Peak {
   double score;
   Eigen::Isometry3d T;
 };
-
-// Offset of a parabola's vertex through (-1, a), (0, b), (1, c) from 0, within half a cell.
-double vertex(double a, double b, double c) {
-  const double curvature = a - 2 * b + c;
-  return curvature < 0 ? std::clamp(0.5 * (a - c) / curvature, -0.5, 0.5) : 0.0;
-}
 
 }  // namespace
 
@@ -146,8 +142,8 @@ std::vector<BirdsEyePose> birds_eye_search(const BirdsEyeGrid& query, const Plac
             }
           }
           if (!maximum) continue;
-          const double dz = r > 0 && r + 1 < w ? vertex(at(r - 1, c), v, at(r + 1, c)) : 0.0;
-          const double dx = c > 0 && c + 1 < w ? vertex(at(r, c - 1), v, at(r, c + 1)) : 0.0;
+          const double dz = r > 0 && r + 1 < w ? parabola_vertex(at(r - 1, c), v, at(r + 1, c)) : 0.0;
+          const double dx = c > 0 && c + 1 < w ? parabola_vertex(at(r, c - 1), v, at(r, c + 1)) : 0.0;
           Eigen::Isometry3d shifted = T;
           shifted.translation() +=
               Eigen::Vector3d((c - s + dx) * config.cell_m, 0.0, (r - s + dz) * config.cell_m);

@@ -9,6 +9,7 @@
 
 #include "loopscan/core/descriptors/birds_eye_place.hpp"
 #include "loopscan/core/matching/birds_eye_match.hpp"
+#include "loopscan/core/peak_vertex.hpp"
 
 namespace loopscan {
 namespace {
@@ -106,6 +107,17 @@ double oracle_correlation(const BirdsEyePlace& q, const BirdsEyePlace& d, double
     }
   }
   return qq > 0 && dd > 0 ? dot / std::sqrt(qq * dd) : 0.0;
+}
+
+TEST(PeakVertex, RecoversASampledParabolasVertex) {
+  for (double vertex : {-0.45, -0.2, 0.0, 0.1, 0.37}) {
+    const auto f = [&](double x) { return 3.0 - 2.0 * (x - vertex) * (x - vertex); };
+    EXPECT_NEAR(parabola_vertex(f(-1), f(0), f(1)), vertex, 1e-12);
+  }
+  EXPECT_EQ(parabola_vertex(0.0, 1.0, 0.99), 0.5 * (0.0 - 0.99) / (0.0 - 2.0 + 0.99));
+  EXPECT_EQ(parabola_vertex(0.0, 1.0, 1.9), 0.5);   // vertex 9.5 cells out: clamped
+  EXPECT_EQ(parabola_vertex(1.0, 1.0, 1.0), 0.0);   // flat
+  EXPECT_EQ(parabola_vertex(1.0, 0.0, 1.0), 0.0);   // a valley, not a peak
 }
 
 TEST(BirdsEyePlace, SizeAndEmptyPlace) {

@@ -1,5 +1,7 @@
 #include "loopscan/core/matching/birds_eye_match.hpp"
 
+#include "loopscan/core/peak_vertex.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -58,13 +60,6 @@ std::vector<float> turned_image(const BirdsEyePlace& place, double yaw, double c
 double wrap_angle(double a) {
   a = std::remainder(a, 2 * M_PI);
   return a <= -M_PI ? a + 2 * M_PI : a;
-}
-
-// Offset of a parabola's vertex through (-1, a), (0, b), (1, c), within half a cell.
-double vertex_offset(double a, double b, double c) {
-  const double curvature = a - 2 * b + c;
-  if (!(curvature < 0)) return 0.0;
-  return std::clamp(0.5 * (a - c) / curvature, -0.5, 0.5);
 }
 
 // cos and sin of 2 pi i / A, and per shift s the terms' cos and sin of 2 pi k s / A.
@@ -261,8 +256,8 @@ BirdsEyePose birds_eye_pose(const BirdsEyePlace& query, const BirdsEyePlace& pla
       if (!(*top > best.score)) continue;
       const int i = int(top - corr.begin()), row = i / w, col = i % w;
       auto at = [&](int r, int c) { return corr[std::size_t(r) * w + c]; };
-      const double fx = (col > 0 && col < w - 1) ? vertex_offset(at(row, col - 1), *top, at(row, col + 1)) : 0;
-      const double fz = (row > 0 && row < w - 1) ? vertex_offset(at(row - 1, col), *top, at(row + 1, col)) : 0;
+      const double fx = (col > 0 && col < w - 1) ? parabola_vertex(at(row, col - 1), *top, at(row, col + 1)) : 0;
+      const double fz = (row > 0 && row < w - 1) ? parabola_vertex(at(row - 1, col), *top, at(row + 1, col)) : 0;
       best = {(col - m + fx) * config.cell_m, (row - m + fz) * config.cell_m, yaw, *top};
     }
   }
