@@ -193,9 +193,10 @@ void BM_RecognizerStream(benchmark::State& state) {
 const std::vector<BirdsEyePlace>& birds_eye_places() {
   static const std::vector<BirdsEyePlace> places = [] {
     std::vector<BirdsEyePlace> out;
+    const BirdsEyeDescriber describer;
     for (const Cloud& c : data().in_range) {
       const CameraPoints p = to_camera_points(c);
-      out.push_back(describe_birds_eye(p.x.data(), p.y.data(), p.z.data(), p.size()));
+      out.push_back(describer.describe(p.x.data(), p.y.data(), p.z.data(), p.size()));
     }
     return out;
   }();
@@ -206,9 +207,10 @@ void BM_BirdsEyeDescribe(benchmark::State& state) {
   const Data& d = data();
   std::vector<CameraPoints> scans;
   for (const Cloud& c : d.in_range) scans.push_back(to_camera_points(c));
+  const BirdsEyeDescriber describer;
   for (auto _ : state) {
     for (const CameraPoints& p : scans) {
-      benchmark::DoNotOptimize(describe_birds_eye(p.x.data(), p.y.data(), p.z.data(), p.size()).key.data());
+      benchmark::DoNotOptimize(describer.describe(p.x.data(), p.y.data(), p.z.data(), p.size()).key.data());
     }
   }
   per_item(state, scans.size());

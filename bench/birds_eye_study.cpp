@@ -56,15 +56,16 @@ Session load(const std::string& dir, const std::array<BirdsEyePlaceConfig, 2>& c
   const auto options = SequenceOptions::make(Method::ScanContext, Mode::Default);
   const std::vector<int> resets = detect_vo_resets(poses);
   ScanImitator imitator(options.imitation);
+  const std::array<BirdsEyeDescriber, 2> describers{BirdsEyeDescriber(configs[0]),
+                                                    BirdsEyeDescriber(configs[1])};
   Session s;
   std::vector<ReadyScan> ready;
   auto take = [&] {
     for (const ReadyScan& r : ready) {
       for (int c : {kDensity, kHeight}) {
         const auto t0 = std::chrono::steady_clock::now();
-        s.places[c].push_back(describe_birds_eye(r.in_range.x.data(), r.in_range.y.data(),
-                                                 r.in_range.z.data(), r.in_range.size(),
-                                                 configs[c]));
+        s.places[c].push_back(describers[c].describe(r.in_range.x.data(), r.in_range.y.data(),
+                                                     r.in_range.z.data(), r.in_range.size()));
         s.keys[c].push_back(key_spectrum(s.places[c].back(), configs[c].angles));
         s.describe_ms[c] += ms_since(t0);
       }

@@ -172,6 +172,7 @@ TEST(BirdsEyePlace, InvalidConfigurationsAreRefused) {
   BirdsEyePlaceConfig c;
   c.cell_m = 0;
   EXPECT_THROW(validate(c), std::invalid_argument);
+  EXPECT_THROW(BirdsEyeDescriber{c}, std::invalid_argument);  // before sizing its image
   c = {};
   c.taper_end_m = c.taper_start_m;
   EXPECT_THROW(validate(c), std::invalid_argument);

@@ -63,30 +63,6 @@ class LogMagnitude {
   std::vector<float> values_;  // (band + 1) x (2 band + 1)
 };
 
-// Per cell, the weight at its centre: 1 within taper_start_m of the keyframe, sin^2 falling to
-// 0 at taper_end_m. Kept per thread for the last configuration.
-const std::vector<float>& taper_weights(const BirdsEyePlaceConfig& config) {
-  thread_local std::vector<float> weights;
-  thread_local double cell = 0, range = 0, start = 0, end = 0;
-  if (cell == config.cell_m && range == config.range_m && start == config.taper_start_m &&
-      end == config.taper_end_m && !weights.empty()) {
-    return weights;
-  }
-  const int side = image_side(config);
-  weights.assign(std::size_t(side) * side, 0.f);
-  const double span = config.taper_end_m - config.taper_start_m, R = config.range_m;
-  for (int r = 0; r < side; ++r) {
-    for (int c = 0; c < side; ++c) {
-      const double d = std::hypot((c + 0.5) * config.cell_m - R, (r + 0.5) * config.cell_m - R);
-      const double w = std::clamp((config.taper_end_m - d) / span, 0.0, 1.0);
-      const double s = std::sin(w * M_PI / 2);
-      weights[std::size_t(r) * side + c] = float(s * s);
-    }
-  }
-  cell = config.cell_m, range = config.range_m, start = config.taper_start_m, end = config.taper_end_m;
-  return weights;
-}
-
 }  // namespace
 
 void validate(const BirdsEyePlaceConfig& c) {
@@ -108,59 +84,76 @@ int image_side(const BirdsEyePlaceConfig& c) {
   return std::max(1, int(std::lround(2.0 * c.range_m / c.cell_m)));
 }
 
-std::vector<float> birds_eye_image(const float* x, const float* y, const float* z, std::size_t n,
-                                   const BirdsEyePlaceConfig& config) {
-  const int side = image_side(config);
-  std::vector<float> image(std::size_t(side) * side, 0.f);
-  const float inv = float(1.0 / config.cell_m), R = float(config.range_m);
-  const float min_height = float(config.min_height_m), limit = float(side);
-  const bool density = config.cell == BirdsEyeCell::Density;
+BirdsEyeDescriber::BirdsEyeDescriber(const BirdsEyePlaceConfig& config) : config_(config) {
+  validate(config);
+  side_ = image_side(config);
+  weights_.assign(std::size_t(side_) * side_, 0.f);
+  const double span = config.taper_end_m - config.taper_start_m, R = config.range_m;
+  for (int r = 0; r < side_; ++r) {
+    for (int c = 0; c < side_; ++c) {
+      const double d = std::hypot((c + 0.5) * config.cell_m - R, (r + 0.5) * config.cell_m - R);
+      const double w = std::clamp((config.taper_end_m - d) / span, 0.0, 1.0);
+      const double s = std::sin(w * M_PI / 2);
+      weights_[std::size_t(r) * side_ + c] = float(s * s);
+    }
+  }
+}
+
+std::vector<float> BirdsEyeDescriber::image(const float* x, const float* y, const float* z,
+                                            std::size_t n) const {
+  std::vector<float> image(std::size_t(side_) * side_, 0.f);
+  const float inv = float(1.0 / config_.cell_m), R = float(config_.range_m);
+  const float min_height = float(config_.min_height_m), limit = float(side_);
+  const bool density = config_.cell == BirdsEyeCell::Density;
   for (std::size_t i = 0; i < n; ++i) {
     const float height = -y[i];
     const float fc = (x[i] + R) * inv, fr = (z[i] + R) * inv;
     // Negated tests also drop NaN coordinates and heights.
     if (!(height > min_height && fc >= 0.f && fc < limit && fr >= 0.f && fr < limit)) continue;
-    float& v = image[std::size_t(fr) * side + std::size_t(fc)];  // truncation: floor here
+    float& v = image[std::size_t(fr) * side_ + std::size_t(fc)];  // truncation: floor here
     v = density ? v + 1.f : std::max(v, height - min_height);
   }
-  const std::vector<float>& weights = taper_weights(config);
   for (std::size_t i = 0; i < image.size(); ++i) {
     if (image[i] == 0.f) continue;
-    image[i] = (density ? std::sqrt(image[i]) : image[i]) * weights[i];
+    image[i] = (density ? std::sqrt(image[i]) : image[i]) * weights_[i];
   }
   return image;
 }
 
 BirdsEyePlace describe_birds_eye(const float* x, const float* y, const float* z, std::size_t n,
                                  const BirdsEyePlaceConfig& config) {
-  validate(config);
+  return BirdsEyeDescriber(config).describe(x, y, z, n);
+}
+
+BirdsEyePlace BirdsEyeDescriber::describe(const float* x, const float* y, const float* z,
+                                          std::size_t n) const {
   BirdsEyePlace place;
-  place.side = image_side(config);
-  const std::vector<float> image = birds_eye_image(x, y, z, n, config);
+  place.side = side_;
+  const std::vector<float> image = this->image(x, y, z, n);
   const float top = *std::max_element(image.begin(), image.end());
   place.image.assign(image.size(), 0);
-  place.key.assign(std::size_t(config.rings) * config.angles, 0);
+  place.key.assign(std::size_t(config_.rings) * config_.angles, 0);
   if (!(top > 0)) return place;
   for (std::size_t i = 0; i < image.size(); ++i) {
     place.image[i] = std::uint8_t(std::lround(255.0 * image[i] / top));
   }
-  const int N = config.spectrum_size;
-  const int band = int(std::ceil(config.max_frequency)) + 1;  // bilinear reaches one bin out
+  const int N = config_.spectrum_size;
+  const int band = int(std::ceil(config_.max_frequency)) + 1;  // bilinear reaches one bin out
   const LogMagnitude magnitude(image, place.side, N, band);
   std::vector<double> key(place.key.size());
   const double ring_step =
-      config.rings > 1 ? (config.max_frequency - config.min_frequency) / (config.rings - 1) : 0;
-  for (int ring = 0; ring < config.rings; ++ring) {
-    const double rho = config.min_frequency + ring * ring_step;
+      config_.rings > 1 ? (config_.max_frequency - config_.min_frequency) / (config_.rings - 1) : 0;
+  for (int ring = 0; ring < config_.rings; ++ring) {
+    const double rho = config_.min_frequency + ring * ring_step;
     double mean = 0;
-    for (int a = 0; a < config.angles; ++a) {
-      const double theta = a * M_PI / config.angles;  // from the x axis towards z
+    for (int a = 0; a < config_.angles; ++a) {
+      const double theta = a * M_PI / config_.angles;  // from the x axis towards z
       const double v = magnitude.sample(rho * std::sin(theta), rho * std::cos(theta));
-      key[std::size_t(ring) * config.angles + a] = v;
+      key[std::size_t(ring) * config_.angles + a] = v;
       mean += v;
     }
-    mean /= config.angles;
-    for (int a = 0; a < config.angles; ++a) key[std::size_t(ring) * config.angles + a] -= mean;
+    mean /= config_.angles;
+    for (int a = 0; a < config_.angles; ++a) key[std::size_t(ring) * config_.angles + a] -= mean;
   }
   double peak = 0;
   for (double v : key) peak = std::max(peak, std::abs(v));

@@ -42,13 +42,27 @@ struct BirdsEyePlace {
   std::size_t bytes() const { return image.size() + key.size(); }
 };
 
-// Points in the camera frame of the keyframe (x right, y down, z forward), as three arrays of
-// n values. A place without structure gets an all-zero image and key.
+// Describes places with one configuration (validated once; per-cell weights computed once).
+// Points are in the camera frame of the keyframe (x right, y down, z forward), as three arrays
+// of n values. A place without structure gets an all-zero image and key.
+class BirdsEyeDescriber {
+ public:
+  // Throws std::invalid_argument on an invalid config (see validate).
+  explicit BirdsEyeDescriber(const BirdsEyePlaceConfig& config = {});
+  BirdsEyePlace describe(const float* x, const float* y, const float* z, std::size_t n) const;
+  const BirdsEyePlaceConfig& config() const { return config_; }
+
+ private:
+  // The tapered cell values before quantisation.
+  std::vector<float> image(const float* x, const float* y, const float* z, std::size_t n) const;
+
+  BirdsEyePlaceConfig config_;
+  int side_ = 0;
+  std::vector<float> weights_;  // per cell: 1 within taper_start_m, sin^2 down to 0 at taper_end_m
+};
+
+// One place (a describer built for it: prefer BirdsEyeDescriber for many places).
 BirdsEyePlace describe_birds_eye(const float* x, const float* y, const float* z, std::size_t n,
                                  const BirdsEyePlaceConfig& config = {});
-
-// The float image before quantisation (tapered square root of the structure count per cell).
-std::vector<float> birds_eye_image(const float* x, const float* y, const float* z, std::size_t n,
-                                   const BirdsEyePlaceConfig& config);
 
 }  // namespace loopscan
