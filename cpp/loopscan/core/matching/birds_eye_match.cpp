@@ -92,6 +92,54 @@ const UnitCircle& unit_circle(int angles) {
   return circle;
 }
 
+// The query image zero-padded by max_cells on every side, and its norm: what every turned
+// place is correlated with, built once per query and place.
+struct PaddedQuery {
+  PaddedQuery(const BirdsEyePlace& query, int max_cells)
+      : n(query.side), m(max_cells), side(query.side + 2 * max_cells),
+        cells(std::size_t(side) * std::size_t(side), 0.f) {
+    double sq = 0;
+    for (int r = 0; r < n; ++r) {
+      for (int c = 0; c < n; ++c) {
+        const float v = query.image[std::size_t(r) * n + c];
+        cells[std::size_t(r + m) * side + c + m] = v;
+        sq += double(v) * v;
+      }
+    }
+    norm = std::sqrt(sq);
+  }
+  int n, m, side;
+  std::vector<float> cells;
+  double norm = 0;
+};
+
+// birds_eye_correlation on a padded query: sparse over the turned place (most cells hold no
+// structure), each place cell adding a contiguous run of the padded query.
+std::vector<double> correlate(const PaddedQuery& query, const BirdsEyePlace& place,
+                              double yaw_rad, const BirdsEyePlaceConfig& config) {
+  const int n = query.n, w = 2 * query.m + 1;
+  std::vector<double> out(std::size_t(w) * std::size_t(w), 0.0);
+  const std::vector<float> turned = turned_image(place, yaw_rad, config.cell_m, config.range_m);
+  double turned_sq = 0;
+  for (float v : turned) turned_sq += double(v) * v;
+  const double norms = std::sqrt(turned_sq) * query.norm;
+  if (!(norms > 0)) return out;
+  std::vector<float> sums(out.size(), 0.f);
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      const float v = turned[std::size_t(r) * n + c];
+      if (v == 0.f) continue;
+      for (int dz = 0; dz < w; ++dz) {  // query row r + dz - m, columns c - m .. c + m
+        const float* row = query.cells.data() + std::size_t(r + dz) * query.side + c;
+        float* o = sums.data() + std::size_t(dz) * w;
+        for (int dx = 0; dx < w; ++dx) o[dx] += v * row[dx];
+      }
+    }
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = sums[i] / norms;
+  return out;
+}
+
 }  // namespace
 
 BirdsEyeKeyMatch match_keys(const BirdsEyePlace& query, const BirdsEyePlace& place, int angles) {
@@ -205,36 +253,7 @@ std::vector<double> birds_eye_correlation(const BirdsEyePlace& query, const Bird
                                           double yaw_rad, const BirdsEyePlaceConfig& config,
                                           int max_cells) {
   check_images(query, place, config);
-  const int n = query.side, w = 2 * max_cells + 1;
-  std::vector<double> out(std::size_t(w) * std::size_t(w), 0.0);
-  const std::vector<float> turned = turned_image(place, yaw_rad, config.cell_m, config.range_m);
-  double turned_sq = 0, query_sq = 0;
-  for (float v : turned) turned_sq += double(v) * v;
-  for (std::uint8_t v : query.image) query_sq += double(v) * v;
-  const double norms = std::sqrt(turned_sq * query_sq);
-  if (!(norms > 0)) return out;
-  // Sparse over the turned place (most cells hold no structure), against the query image
-  // padded by max_cells zeros on every side: each place cell adds a contiguous float run.
-  const int m = max_cells, p = n + 2 * m;
-  std::vector<float> padded(std::size_t(p) * std::size_t(p), 0.f);
-  for (int r = 0; r < n; ++r) {
-    for (int c = 0; c < n; ++c) padded[std::size_t(r + m) * p + c + m] = query.image[std::size_t(r) * n + c];
-  }
-  std::vector<float> sums(out.size(), 0.f);
-  for (int r = 0; r < n; ++r) {
-    for (int c = 0; c < n; ++c) {
-      const float v = turned[std::size_t(r) * n + c];
-      if (v == 0.f) continue;
-      for (int dz = 0; dz < w; ++dz) {  // query row r + dz - m, columns c - m .. c + m
-        const float* row = padded.data() + std::size_t(r + dz) * p + c;
-        float* o = sums.data() + std::size_t(dz) * w;
-        for (int dx = 0; dx < w; ++dx) o[dx] += v * row[dx];
-      }
-    }
-  }
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = sums[i];
-  for (double& v : out) v /= norms;
-  return out;
+  return correlate(PaddedQuery(query, max_cells), place, yaw_rad, config);
 }
 
 BirdsEyePose birds_eye_pose(const BirdsEyePlace& query, const BirdsEyePlace& place,
@@ -246,12 +265,13 @@ BirdsEyePose birds_eye_pose(const BirdsEyePlace& query, const BirdsEyePlace& pla
   }
   const int m = int(std::floor(search.max_shift_m / config.cell_m)), w = 2 * m + 1;
   const double step = M_PI / config.angles;
+  const PaddedQuery padded(query, m);
   BirdsEyePose best;
   best.score = -1;
   for (double base : {key_yaw_rad, key_yaw_rad + M_PI}) {
     for (int k = -search.yaw_steps; k <= search.yaw_steps; ++k) {
       const double yaw = wrap_angle(base + k * step);
-      const std::vector<double> corr = birds_eye_correlation(query, place, yaw, config, m);
+      const std::vector<double> corr = correlate(padded, place, yaw, config);
       const auto top = std::max_element(corr.begin(), corr.end());
       if (!(*top > best.score)) continue;
       const int i = int(top - corr.begin()), row = i / w, col = i % w;
