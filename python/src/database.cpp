@@ -73,8 +73,13 @@ void bind_database(py::module_& m) {
       .def_readonly("index", &Candidate::index, "insertion order in the database")
       .def_readonly("distance", &Candidate::distance, "fused z-score (or raw distance)")
       .def_readonly("yaw_rad", &Candidate::yaw_rad,
-                    "Scan Context: the place's heading in the query's camera frame; NaN else")
+                    "Scan Context and bev: the place's heading in the query's camera frame; NaN "
+                    "else")
       .def_readonly("mirrored", &Candidate::mirrored)
+      .def_readonly("x_m", &Candidate::x_m,
+                    "bev: the place keyframe's x (right) in the query's camera frame; NaN else")
+      .def_readonly("z_m", &Candidate::z_m,
+                    "bev: the place keyframe's z (forward) in the query's camera frame; NaN else")
       .def("__repr__", &candidate_repr);
 
   py::class_<Database>(m, "Database", "Places to query online (exact or indexed search).")

@@ -218,7 +218,7 @@ TEST(Cli, VersionSuggestionsAndCommaLists) {
       {"evaluate --method sc --signatures a --gt b --out c --fusoin fused",
        "did you mean --fusion?"},
       {"evaluate --method gits --signatures a --gt b --out c",
-       "(expected sc, m2dp, delight, gist or bow; did you mean 'gist'?)"},
+       "(expected sc, m2dp, delight, bev, gist or bow; did you mean 'gist'?)"},
       {"frobnicate", "unknown command 'frobnicate'; commands: describe"}};
   for (const auto& [line, message] : mistakes) {
     r = run(line);

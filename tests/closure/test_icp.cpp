@@ -76,6 +76,27 @@ TEST(Icp, YawGuessesCoverTheOppositeHeading) {
   EXPECT_LT(rotation_error_deg(loop.T_query_match, T), 0.3);
 }
 
+TEST(Icp, BirdsEyeCandidatesSeedWithTheirMetricPoseFirst) {
+  // A revisit 7 m along and 3 m aside, turned 120 degrees: the bird's-eye candidate's pose (a
+  // cell off) is the first start, and the alignment from it is accepted.
+  const Eigen::Isometry3d T = pose(120, 0.3, -0.4, Eigen::Vector3d(3.0, 0.1, 7.0));
+  const auto [target_points, source] = two_views(37, T);
+  const closure::TargetCloud target(target_points);
+  Candidate c;
+  c.yaw_rad = std::atan2(-T.linear()(0, 2), T.linear()(2, 2)) + 2 * M_PI / 180;
+  c.x_m = 3.6;
+  c.z_m = 6.5;
+  const std::vector<Eigen::Isometry3d> guesses = closure::yaw_guesses(c);
+  ASSERT_EQ(guesses.size(), 3u);
+  EXPECT_TRUE(guesses[0].translation().isApprox(Eigen::Vector3d(3.6, 0.0, 6.5)));
+  EXPECT_TRUE(guesses[0].linear().isApprox(closure::yaw_rotation(c.yaw_rad).linear()));
+  EXPECT_TRUE(guesses[1].isApprox(closure::yaw_rotation(c.yaw_rad)));
+  const closure::Loop loop = closure::verify_candidate(target, source, {guesses[0]});
+  EXPECT_EQ(loop.verdict, closure::Verdict::Accepted) << closure::to_string(loop.verdict);
+  EXPECT_LT((loop.T_query_match.translation() - T.translation()).norm(), 0.05);
+  EXPECT_LT(rotation_error_deg(loop.T_query_match, T), 0.3);
+}
+
 TEST(Icp, CorridorOfBareFacadesIsRefusedAsDegenerate) {
   test::SceneOptions corridor;
   corridor.poles_and_boxes = false;

@@ -36,7 +36,7 @@ def test_bad_input_raises_with_the_reason():
         loopscan.describe_sequence((poses[0], poses[1][:, :2]), points)
     with pytest.raises(ValueError, match=r"unknown mode 'fast' \(expected reference or default\)"):
         loopscan.describe_sequence(poses, points, mode="fast")
-    with pytest.raises(ValueError, match=r"unknown method .sift. \(expected sc, m2dp or delight\)"):
+    with pytest.raises(ValueError, match=r"unknown method .sift. \(expected sc, m2dp, delight or bev\)"):
         loopscan.describe_sequence(poses, points, method="sift")
     with pytest.raises(ValueError, match="keyframe ids in increasing order"):
         loopscan.describe_sequence((poses[0][::-1].copy(), poses[1]), points)

@@ -116,3 +116,21 @@ def test_ten_thousand_queries_leak_no_references():
     gc.collect()
     assert sys.getrefcount(q) == refs
     assert len(gc.get_objects()) - objects < 100
+
+
+def test_birds_eye_recognizer_finds_the_twins_with_their_metric_pose():
+    (ids, T), (pid, xyzg) = loop_drive()
+    rec = loopscan.Recognizer(method="bev", exclude_recent=20)
+    matched = {}
+    for i, kf in enumerate(ids):
+        for r in rec.add_keyframe(int(kf), T[i], xyzg[pid == kf]):
+            if r.matches:
+                matched[r.keyframe] = r.matches[0]
+    second = [k for k in matched if k >= 110]
+    assert len(second) >= 45
+    twins = [matched[k] for k in second if matched[k].keyframe == k - 80]
+    assert len(twins) >= 0.9 * len(second)
+    # The twin was seen from the very same pose: the image search puts it at the origin.
+    for c in twins:
+        assert abs(c.x_m) < 1.0 and abs(c.z_m) < 1.0
+        assert abs(np.remainder(c.yaw_rad + np.pi, 2 * np.pi) - np.pi) < 0.1

@@ -28,7 +28,7 @@ void add_mode_option(CLI::App& cmd, ConfigFlags& flags);
 // What a described set or a map says of how its places were described.
 struct Described {
   std::string source;                 // the file that said it (config.yaml, timing.json, map.db)
-  std::optional<std::string> method;  // sc | m2dp | delight | gist | bow
+  std::optional<std::string> method;  // sc | m2dp | delight | bev | gist | bow
   std::optional<Mode> mode;
   std::optional<DescriptorFrame> frame;
 };

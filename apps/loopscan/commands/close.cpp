@@ -103,7 +103,7 @@ void add_close_command(CLI::App& app) {
   cmd->add_option("--map-gt", a->map_gt,
                   "ground truth of the map's keyframes when it is not --gt's trajectory");
   cmd->add_option("--method", a->config.method,
-                  "place recognition: sc | m2dp | delight (default: the map's, else sc)");
+                  "place recognition: sc | m2dp | delight | bev (default: the map's, else sc)");
   add_mode_option(*cmd, a->config);
   add_config_option(*cmd, a->config);
   cmd->add_flag("--write-points", a->write_points,

@@ -39,7 +39,7 @@ void add_config_command(CLI::App& app) {
   auto a = std::make_shared<ConfigArgs>();
   CLI::App* cmd = app.add_subcommand(
       "config", "Print every tuning parameter with its default (the YAML --config takes)");
-  cmd->add_option("--method", a->config.method, "sc | m2dp | delight | gist | bow (default: sc)");
+  cmd->add_option("--method", a->config.method, "sc | m2dp | delight | bev | gist | bow (default: sc)");
   add_mode_option(*cmd, a->config);
   cmd->get_option("--mode")->description("default | reference (default: the file's, else default)");
   add_config_option(*cmd, a->config);

@@ -66,7 +66,7 @@ void run_build(const BuildArgs& a) {
   std::vector<Described> described;
   for (const std::string& dir : a.signatures) described.push_back(read_described(dir));
   const Configuration c = resolve_configuration(a.config, described);
-  if (c.image_baseline) throw std::invalid_argument("a place database holds sc, m2dp or delight");
+  if (c.image_baseline) throw std::invalid_argument("a place database holds sc, m2dp, delight or bev");
   DatabaseConfig config = database_config(c);
   if (const std::optional<DescriptorFrame> frame = described_frame(described)) config.frame = frame;
   Database db(config);
@@ -220,7 +220,7 @@ void add_db_command(CLI::App& app) {
   build->add_option("--first-session", b->first_session, "session id of the first --signatures")
       ->check(finite_in(0, 1e6))
       ->capture_default_str();
-  build->add_option("--method", b->config.method, "sc | m2dp | delight (default: the sets' own)");
+  build->add_option("--method", b->config.method, "sc | m2dp | delight | bev (default: the sets' own)");
   add_mode_option(*build, b->config);
   add_config_option(*build, b->config);
   build->callback([b] {

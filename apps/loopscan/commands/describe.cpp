@@ -228,7 +228,7 @@ void add_describe_command(CLI::App& app) {
       "describe",
       "Describe places: a VO export's keyframes (imitated LiDAR scans), real LiDAR scans, or "
       "keyframe images (gist, bow)");
-  cmd->add_option("--method", a->config.method, "sc | m2dp | delight | gist | bow")->required();
+  cmd->add_option("--method", a->config.method, "sc | m2dp | delight | bev | gist | bow")->required();
   add_mode_option(*cmd, a->config);
   add_config_option(*cmd, a->config);
   cmd->add_option("--out", a->out, "output directory")->required();

@@ -60,7 +60,8 @@ void run_evaluate(const EvaluateArgs& a) {
 
   nlohmann::json metrics = {
       {"method", method_name(method)},
-      {"fusion", method == Method::Delight ? "intensity-only" : fusion_name(fusion)},
+      {"fusion", distance_components(method) == 2 ? fusion_name(fusion)
+                 : method == Method::Delight ? "intensity-only" : "structure-only"},
       {"mode", mode_name(mode)},
       {"protocol",
        {{"threshold_m", options.protocol.threshold_m},
@@ -72,7 +73,7 @@ void run_evaluate(const EvaluateArgs& a) {
   const eval::DirectionSplit split = eval::split_by_direction(
       ev.pr, queries.positions, db.positions, queries.headings, db.headings, options.protocol);
   metrics["by_direction"] = direction_metrics(split);
-  if (fusion == Fusion::Adaptive && method != Method::Delight) {
+  if (fusion == Fusion::Adaptive && distance_components(method) == 2) {
     const FusionWeights& w = ev.weights;
     metrics["fusion_weights"] = {
         {"structure", w.structure},          {"intensity", w.intensity},
@@ -104,7 +105,7 @@ void add_evaluate_command(CLI::App& app) {
   cmd->add_option("--gt2", a->gt2, "ground truth of the --against session");
   cmd->add_option("--out", a->out, "output directory")->required();
   cmd->add_option("--method", a->config.method,
-                  "sc | m2dp | delight | gist | bow (default: the signatures' own)");
+                  "sc | m2dp | delight | bev | gist | bow (default: the signatures' own)");
   add_mode_option(*cmd, a->config);
   add_config_option(*cmd, a->config);
   cmd->add_option("--fusion", a->fusion,

@@ -44,7 +44,7 @@ void add_slam_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "slam", "Stereo VO, place recognition and loop closing on a KITTI-layout sequence");
   add_vo_options(*cmd, a->vo);
-  cmd->add_option("--method", a->config.method, "place recognition: sc | m2dp | delight");
+  cmd->add_option("--method", a->config.method, "place recognition: sc | m2dp | delight | bev");
   add_mode_option(*cmd, a->config);
   add_config_option(*cmd, a->config);
   cmd->callback([cmd, a] {

@@ -41,7 +41,7 @@ KeyframePose orthonormalised(KeyframePose k) {
 LoopCloserConfig LoopCloserConfig::make(Method method, Mode mode, double range_m) {
   LoopCloserConfig c;
   c.recognition = RecognizerConfig::make(method, mode, range_m);
-  if (method != Method::Delight && c.recognition.database.fusion == Fusion::Fused) {
+  if (distance_components(method) == 2 && c.recognition.database.fusion == Fusion::Fused) {
     c.max_candidate_distance = -6.0;
   }
   return c;

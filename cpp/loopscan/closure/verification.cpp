@@ -79,6 +79,11 @@ std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& c) {
                                        ? std::vector<double>{c.yaw_rad, c.yaw_rad + M_PI}
                                        : std::vector<double>{0.0, M_PI / 2, M_PI, -M_PI / 2};
   std::vector<Eigen::Isometry3d> out;
+  if (std::isfinite(c.yaw_rad) && std::isfinite(c.x_m) && std::isfinite(c.z_m)) {
+    Eigen::Isometry3d pose = yaw_rotation(c.yaw_rad);
+    pose.translation() = Eigen::Vector3d(c.x_m, 0.0, c.z_m);
+    out.push_back(pose);
+  }
   for (double yaw : yaws) out.push_back(yaw_rotation(yaw));
   return out;
 }

@@ -92,8 +92,9 @@ void validate(const LoopUncertaintyConfig& config);
 // The covariance of T_query_match (translation in the query's frame, then rotation).
 Covariance6 loop_covariance(const Loop& loop, const LoopUncertaintyConfig& config = {});
 
-// Initial yaws to try: the candidate's own yaw (Scan Context, mirrored matches included) and
-// its opposite, or four headings when the method gives none (M2DP, DELIGHT).
+// Initial poses to try: the candidate's metric pose first when its method found one (bev), then
+// its own yaw (Scan Context, mirrored matches included; bev) and its opposite, or four headings
+// when the method gives none (M2DP, DELIGHT).
 std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& candidate);
 
 // Aligns `place` (the map place's cloud, its camera frame) onto `query` and judges it; the

@@ -14,7 +14,7 @@ namespace loopscan {
 
 // The top-level `method` and `mode` of a file, if it sets them, with their lines.
 struct FileChoice {
-  std::optional<std::string> method;  // sc | m2dp | delight | gist | bow
+  std::optional<std::string> method;  // sc | m2dp | delight | bev | gist | bow
   std::optional<Mode> mode;
   std::size_t method_line = 0, mode_line = 0;
 };
@@ -23,7 +23,7 @@ FileChoice read_file_choice(const std::string& path);
 // Configuration::defaults(method, mode) with the file's values on top; then validate(), whose
 // complaints name the file (and the key's line when the file sets it). A `method` or `mode` in
 // the file must equal the arguments (decide them with read_file_choice first).
-// `method`: sc | m2dp | delight | gist | bow.
+// `method`: sc | m2dp | delight | bev | gist | bow.
 Configuration load_configuration(const std::string& path, const std::string& method, Mode mode);
 
 // The line of a dotted key ("closure.candidates") in the file; of its deepest section the file

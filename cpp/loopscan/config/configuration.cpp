@@ -37,6 +37,7 @@ Configuration Configuration::defaults(Method method, Mode mode) {
   c.evaluation.fusion = evaluation.fusion;
   c.evaluation.structure_weight = evaluation.structure_weight;
   c.closure.closer = closure::LoopCloserConfig::make(method, mode);
+  c.database.query.candidates = c.closure.closer.recognition.query.candidates;
   if (mode == Mode::Reference) c.baselines.gist = baselines::GistConfig::lear_c();
   return c;
 }
@@ -51,7 +52,7 @@ Configuration Configuration::defaults(const std::string& method, Mode mode) {
 }
 
 const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names = {"sc", "m2dp", "delight", "gist", "bow"};
+  static const std::vector<std::string> names = {"sc", "m2dp", "delight", "bev", "gist", "bow"};
   return names;
 }
 
@@ -121,6 +122,7 @@ DatabaseConfig database_config(const Configuration& c) {
   d.fusion = c.database.fusion;
   d.structure_weight = c.evaluation.structure_weight;
   d.scan_context = descriptors.scan_context;
+  d.birds_eye = descriptors.birds_eye;
   d.storage = c.database.storage;
   d.mode = c.mode;
   d.frame = descriptor_frame(c.method, descriptors);
@@ -162,13 +164,15 @@ sim::Conditions simulated_conditions(const Configuration& c, sim::Season season)
 }
 
 void validate_loop_closing(const Configuration& c) {
-  need(!c.image_baseline, "method", "loops close with sc, m2dp or delight");
+  need(!c.image_baseline, "method", "loops close with sc, m2dp, delight or bev");
   need(c.imitation.lookahead_m == 0, "imitation.lookahead_m",
        "the loop closer takes forward-only scans (0): it verifies each keyframe as it arrives");
 }
 
 void validate(const Configuration& c) {
   if (c.mode == Mode::Reference) {
+    need(c.method != Method::BirdsEye, "method",
+         "bev (the bird's-eye place) is not the paper's: default mode only");
     // The paper's scan and frame; the file cannot ask reference mode for something else.
     need(c.imitation.lookahead_m == 0, "imitation.lookahead_m",
          "reference mode is the paper's forward-only scan (0)");

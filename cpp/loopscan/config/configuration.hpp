@@ -95,17 +95,17 @@ struct Configuration {
 
   // The library's defaults for a method and a mode.
   static Configuration defaults(Method method = Method::ScanContext, Mode mode = Mode::Default);
-  // The same by name: sc | m2dp | delight | gist | bow (parse_method_name).
+  // The same by name: sc | m2dp | delight | bev | gist | bow (parse_method_name).
   static Configuration defaults(const std::string& method, Mode mode);
 };
 
-// "sc" | "m2dp" | "delight" | "gist" | "bow": the method a configuration (or a described set) is
+// "sc" | "m2dp" | "delight" | "bev" | "gist" | "bow": the method a configuration (or a described set) is
 // for; parse_method_name throws std::invalid_argument on any other name, naming the closest.
 std::string method_name(const Configuration& c);
 void parse_method_name(const std::string& name, Method& method,
                        std::optional<ImageBaseline>& image_baseline);
-const std::vector<std::string>& method_names();  // sc, m2dp, delight, gist, bow
-std::string method_choices();                    // "sc, m2dp, delight, gist or bow"
+const std::vector<std::string>& method_names();  // sc, m2dp, delight, bev, gist, bow
+std::string method_choices();  // "sc, m2dp, delight, bev, gist or bow"
 
 // Throws std::invalid_argument naming the first key (as in the file: "closure.candidates") whose
 // value is out of its range or contradicts the mode (reference mode is the paper's forward-only

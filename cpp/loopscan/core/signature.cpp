@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "loopscan/core/config.hpp"
+#include "loopscan/core/descriptors/birds_eye_place.hpp"
 
 namespace loopscan {
 
@@ -14,6 +15,8 @@ int rows_per_place(Method method) {
       return 4;
     case Method::Delight:
       return 16;
+    case Method::BirdsEye:
+      return 1;
   }
   return 1;
 }
@@ -30,6 +33,8 @@ int signature_columns(Method method) {
     }
     case Method::Delight:
       return DelightConfig{}.intensity_bins;
+    case Method::BirdsEye:
+      return birds_eye_signature_columns(BirdsEyePlaceConfig{});
   }
   return 0;
 }
@@ -42,6 +47,8 @@ std::string method_name(Method method) {
       return "m2dp";
     case Method::Delight:
       return "delight";
+    case Method::BirdsEye:
+      return "bev";
   }
   return "?";
 }
@@ -50,7 +57,8 @@ Method parse_method(const std::string& name) {
   if (name == "sc") return Method::ScanContext;
   if (name == "m2dp") return Method::M2dp;
   if (name == "delight") return Method::Delight;
-  throw std::invalid_argument("unknown method '" + name + "' (expected sc, m2dp or delight)");
+  if (name == "bev") return Method::BirdsEye;
+  throw std::invalid_argument("unknown method '" + name + "' (expected sc, m2dp, delight or bev)");
 }
 
 std::string mode_name(Mode mode) { return mode == Mode::Reference ? "reference" : "default"; }

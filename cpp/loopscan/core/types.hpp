@@ -32,6 +32,7 @@ struct KeyframePose {
 // `Default` fixes them (see docs/reference-vs-default.md).
 enum class Mode { Reference, Default };
 
-enum class Method { ScanContext, M2dp, Delight };
+// BirdsEye: the ground-plane place of core/descriptors/birds_eye_place.hpp (default mode only).
+enum class Method { ScanContext, M2dp, Delight, BirdsEye };
 
 }  // namespace loopscan

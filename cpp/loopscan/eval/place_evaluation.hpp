@@ -27,7 +27,9 @@ struct PlaceEvaluationOptions {
   // Matlab quirks, as the authors' numbers were made.
   static PlaceEvaluationOptions make(Method method, Mode mode);
   // Adaptive fusion needs the whole matrix's statistics first: two passes over the queries.
-  bool two_passes() const { return fusion == Fusion::Adaptive && method != Method::Delight; }
+  bool two_passes() const {
+    return fusion == Fusion::Adaptive && distance_components(method) == 2;
+  }
 };
 
 struct PlaceEvaluation {

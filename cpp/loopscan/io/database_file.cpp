@@ -189,7 +189,11 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
   }
   DatabaseConfig c;
   const auto method = r.get<std::uint32_t>("the descriptor kind");
-  if (method > 2) r.fail("descriptor kind " + std::to_string(method) + ", expected 0..2");
+  constexpr auto kLastMethod = static_cast<std::uint32_t>(Method::BirdsEye);
+  if (method > kLastMethod) {
+    r.fail("descriptor kind " + std::to_string(method) + ", expected 0.." +
+           std::to_string(kLastMethod));
+  }
   c.method = static_cast<Method>(method);
   const auto fusion = r.get<std::uint32_t>("the fusion");
   if (fusion > 2) r.fail("fusion " + std::to_string(fusion) + ", expected 0..2");

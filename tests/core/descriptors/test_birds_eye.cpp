@@ -2,13 +2,18 @@
 // search over every yaw and shift of a grid.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <vector>
 
+#include "loopscan/core/database/database.hpp"
 #include "loopscan/core/descriptors/birds_eye_place.hpp"
+#include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/matching/birds_eye_match.hpp"
+#include "loopscan/core/matching/place_matcher.hpp"
 #include "loopscan/core/peak_vertex.hpp"
 
 namespace loopscan {
@@ -330,6 +335,138 @@ TEST(BirdsEyeMatch, PoseSearchMatchesBruteForceAndTheTruth) {
     EXPECT_LE(angle_error(found.yaw_rad, psi_p - psi_q), 2.01 * step);
     EXPECT_LE(std::hypot(found.x_m - tx, found.z_m - tz), 1.0);
     EXPECT_GT(found.score, 0.5);
+  }
+}
+
+
+// Places along two streets, each seen from a random lane and direction: the method's
+// recognition path (signature, matcher, database) and its brute-force oracles.
+struct Places {
+  std::vector<BirdsEyePlace> places;
+  std::vector<Signature> signatures;
+};
+Places street_places(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const std::vector<Point2> worlds[2] = {street_world(31), street_world(32)};
+  Places out;
+  for (int i = 0; i < n; ++i) {
+    const BirdsEyePlace p =
+        describe(scan_at(worlds[i % 2], 3 * u(rng), 60 * u(rng), M_PI * u(rng)));
+    out.places.push_back(p);
+    out.signatures.push_back(birds_eye_signature(p));
+  }
+  return out;
+}
+
+double image_distance(const BirdsEyePlace& q, const BirdsEyePlace& d) {
+  const BirdsEyePlaceConfig config;
+  return birds_eye_distance(
+      birds_eye_pose(q, d, match_keys(q, d, config.angles).yaw_rad, config, {}));
+}
+
+TEST(BirdsEyeMethod, SignatureHoldsThePlaceAndRefusesOthers) {
+  const BirdsEyePlaceConfig config;
+  const Scan s = scan_at(street_world(5), 1.0, 3.0, 0.4);
+  Cloud cloud;
+  for (std::size_t i = 0; i < s.x.size(); ++i) cloud.push_back({Eigen::Vector3d(s.x[i], s.y[i], s.z[i]), 0.f});
+  const Signature sig = loopscan::describe(Method::BirdsEye, cloud, DescriptorConfig::for_mode(Mode::Default));
+  ASSERT_EQ(sig.rows(), rows_per_place(Method::BirdsEye));
+  ASSERT_EQ(sig.cols(), signature_columns(Method::BirdsEye));
+  const BirdsEyePlace direct = describe(s), back = birds_eye_place(sig, config);
+  EXPECT_EQ(back.image, direct.image);
+  EXPECT_EQ(back.key, direct.key);
+  EXPECT_EQ(method_name(parse_method("bev")), "bev");
+  Signature bad = sig;
+  bad(0, 5) = 256;
+  EXPECT_THROW(birds_eye_place(bad, config), std::invalid_argument);
+  bad = sig;
+  bad(0, sig.cols() - 1) = 0.5;
+  EXPECT_THROW(birds_eye_place(bad, config), std::invalid_argument);
+  EXPECT_THROW(birds_eye_place(Signature(1, 10), config), std::invalid_argument);
+  cloud[0].p.x() = std::nan("");
+  EXPECT_THROW(loopscan::describe(Method::BirdsEye, cloud, {}), std::invalid_argument);
+}
+
+TEST(BirdsEyeMethod, MatcherRowsAreKeyDistancesAndRerankSearchesTheAllowedFinalists) {
+  const Places p = street_places(40, 3);
+  BirdsEyeSearchConfig search;
+  search.finalists = 5;
+  const auto matcher = make_birds_eye_matcher({}, search);
+  for (const Signature& s : p.signatures) matcher->add(s);
+  ASSERT_EQ(matcher->components(), 1);
+  const int angles = BirdsEyePlaceConfig{}.angles;
+  for (int q : {0, 17, 39}) {
+    Eigen::MatrixXd rows;
+    matcher->distances(p.signatures[q], rows);
+    ASSERT_EQ(rows.cols(), 40);
+    std::vector<std::pair<double, int>> allowed;
+    for (int j = 0; j < 40; ++j) {
+      const double key = match_keys(p.places[q], p.places[j], angles).distance;
+      EXPECT_NEAR(rows(0, j), key, 1e-5);
+      if (std::abs(q - j) >= 10) allowed.emplace_back(rows(0, j), j);
+    }
+    std::sort(allowed.begin(), allowed.end());
+    matcher->rerank(p.signatures[q], q, 10, rows);
+    for (int j = 0; j < 40; ++j) {
+      const bool finalist =
+          std::find_if(allowed.begin(), allowed.begin() + 5,
+                       [j](const auto& a) { return a.second == j; }) != allowed.begin() + 5;
+      if (finalist) {
+        EXPECT_NEAR(rows(0, j), image_distance(p.places[q], p.places[j]), 1e-9) << q << " " << j;
+      } else {
+        EXPECT_EQ(rows(0, j), std::numeric_limits<double>::infinity()) << q << " " << j;
+      }
+    }
+  }
+}
+
+TEST(BirdsEyeMethod, DatabaseQueriesEqualTheirBruteForceOracles) {
+  const Places p = street_places(36, 4);
+  DatabaseConfig config;
+  config.method = Method::BirdsEye;
+  Database db(config), reloaded(config);
+  for (int i = 0; i < 30; ++i) db.add({0, i}, {p.signatures[i]});
+  std::vector<float> payload(db.payload_floats());
+  for (int i = 0; i < 30; ++i) {
+    db.stored_payload(i, payload.data());
+    reloaded.add_stored({0, i}, payload.data(), Eigen::Matrix3f::Identity(), std::nullopt);
+  }
+  const int angles = BirdsEyePlaceConfig{}.angles;
+  for (int q = 30; q < 36; ++q) {
+    const BirdsEyePlace& query = p.places[q];
+    // Exact: the best image distance over every place.
+    int best = 0;
+    for (int j = 1; j < 30; ++j) {
+      if (image_distance(query, p.places[j]) < image_distance(query, p.places[best])) best = j;
+    }
+    QueryOptions exact;
+    exact.retrieval = Retrieval::Exact;
+    const auto e = db.query({p.signatures[q]}, 1, exact);
+    ASSERT_EQ(e.size(), 1u);
+    EXPECT_EQ(e[0].index, std::size_t(best));
+    EXPECT_NEAR(e[0].distance, image_distance(query, p.places[best]), 1e-9);
+    // Indexed: the best image distance among the key's best `candidates`.
+    QueryOptions indexed;
+    indexed.candidates = 4;
+    std::vector<std::pair<double, int>> by_key;
+    for (int j = 0; j < 30; ++j) by_key.emplace_back(match_keys(query, p.places[j], angles).distance, j);
+    std::sort(by_key.begin(), by_key.end());
+    int best_finalist = by_key[0].second;
+    for (int f = 1; f < 4; ++f) {
+      const int j = by_key[f].second;
+      if (image_distance(query, p.places[j]) < image_distance(query, p.places[best_finalist])) best_finalist = j;
+    }
+    for (const Database* d : {&db, &reloaded}) {
+      const auto r = d->query({p.signatures[q]}, 1, indexed);
+      ASSERT_EQ(r.size(), 1u);
+      EXPECT_EQ(r[0].index, std::size_t(best_finalist));
+      const BirdsEyePlace& place = p.places[best_finalist];
+      const BirdsEyePose pose = birds_eye_pose(query, place, match_keys(query, place, angles).yaw_rad, {}, {});
+      EXPECT_NEAR(r[0].x_m, pose.x_m, 1e-9);
+      EXPECT_NEAR(r[0].z_m, pose.z_m, 1e-9);
+      EXPECT_NEAR(r[0].yaw_rad, pose.yaw_rad, 1e-9);
+    }
   }
 }
 

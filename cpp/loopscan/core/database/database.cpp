@@ -22,6 +22,8 @@ std::unique_ptr<PlaceStore> make_store(const DatabaseConfig& c) {
       return make_m2dp_store(columns);
     case Method::Delight:
       return make_delight_store(columns);
+    case Method::BirdsEye:
+      return make_birds_eye_store(c.birds_eye, c.birds_eye_search);
   }
   throw std::invalid_argument("unknown method");
 }
@@ -243,10 +245,15 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
     out.push_back(c);
   }
   for (Candidate& c : out) {
-    if (const auto a = store_->align(*query, store_->record(c.index))) {
+    const float* record = store_->record(c.index);
+    if (const auto a = store_->align(*query, record)) {
       c.mirrored = a->mirrored;
       c.yaw_rad = relative_yaw(descriptor.frame, frames_[c.index].cast<double>(), a->shift,
                                a->mirrored, store_->sectors());
+    } else if (const auto pose = store_->ground_pose(*query, record)) {
+      c.yaw_rad = pose->yaw_rad;
+      c.x_m = pose->x_m;
+      c.z_m = pose->z_m;
     }
   }
   return out;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "loopscan/core/config.hpp"
+#include "loopscan/core/matching/birds_eye_match.hpp"
 #include "loopscan/core/matching/fusion.hpp"
 #include "loopscan/core/signature.hpp"
 
@@ -49,6 +50,9 @@ struct DatabaseConfig {
   // Rings and sectors of the Scan Context signatures (sectors must be even); its other fields
   // are not used here.
   ScanContextConfig scan_context;
+  // Bird's-eye places: their layout and the image search of the exact distance.
+  BirdsEyePlaceConfig birds_eye;
+  BirdsEyeSearchConfig birds_eye_search;
   // Columns of an M2DP or DELIGHT signature; 0: the default parameters' width.
   int columns = 0;
   PlaceStorage storage = PlaceStorage::Full;
@@ -68,7 +72,7 @@ std::string retrieval_name(Retrieval retrieval);
 struct QueryOptions {
   Retrieval retrieval = Retrieval::Indexed;
   // Indexed: places taken from the index (SC coarse key / M2DP KD-tree, DELIGHT coarse
-  // histogram) and scored exactly.
+  // histogram, the bird's-eye key) and scored exactly.
   int candidates = 50;
   // Scan Context: places the coarse stage (key_scan.hpp) hands to the spectral re-ranking, per
   // candidate.
@@ -102,9 +106,13 @@ struct Candidate {
   double distance = 0;    // fused z-score or raw distance (see DatabaseConfig::fusion)
   // Scan Context: the database keyframe's heading in the query keyframe's camera frame, about
   // the camera's up axis (-y, KITTI/DSO convention), positive to the left, in (-pi, pi].
-  // NaN for M2DP and DELIGHT.
+  // Bird's-eye places: from the image search. NaN for M2DP and DELIGHT.
   double yaw_rad = std::numeric_limits<double>::quiet_NaN();
   bool mirrored = false;  // Scan Context matched in mirrored sector order
+  // Bird's-eye places: the database keyframe's position on the query keyframe's ground plane
+  // (camera x right, z forward, m). NaN for the other methods.
+  double x_m = std::numeric_limits<double>::quiet_NaN();
+  double z_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 class PlaceStore;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "loopscan/core/database/database.hpp"
+#include "loopscan/core/matching/birds_eye_match.hpp"
 #include "loopscan/core/matching/scan_context_spectra.hpp"
 #include "loopscan/core/payload_arena.hpp"
 
@@ -59,6 +60,10 @@ class PlaceStore {
     return std::nullopt;
   }
   virtual int sectors() const { return 0; }
+  // Bird's-eye places only: the place's metric pose in the query's frame (the image search).
+  virtual std::optional<BirdsEyePose> ground_pose(const Query&, const float*) const {
+    return std::nullopt;
+  }
   virtual std::size_t index_bytes() const = 0;
 
   // The scoring record of place i (what distances() and align() read).
@@ -82,5 +87,7 @@ std::unique_ptr<PlaceStore> make_scan_context_store(const ScanContextConfig& con
                                                     PlaceStorage storage);
 std::unique_ptr<PlaceStore> make_m2dp_store(int columns);
 std::unique_ptr<PlaceStore> make_delight_store(int columns);
+std::unique_ptr<PlaceStore> make_birds_eye_store(const BirdsEyePlaceConfig& place,
+                                                 const BirdsEyeSearchConfig& search);
 
 }  // namespace loopscan

@@ -80,10 +80,6 @@ void validate(const BirdsEyePlaceConfig& c) {
           "spectrum_size must hold the image (2 range_m / cell_m cells) and be <= 4096");
 }
 
-int image_side(const BirdsEyePlaceConfig& c) {
-  return std::max(1, int(std::lround(2.0 * c.range_m / c.cell_m)));
-}
-
 BirdsEyeDescriber::BirdsEyeDescriber(const BirdsEyePlaceConfig& config) : config_(config) {
   validate(config);
   side_ = image_side(config);
@@ -163,6 +159,53 @@ BirdsEyePlace BirdsEyeDescriber::describe(const float* x, const float* y, const 
     }
   }
   return place;
+}
+
+}  // namespace loopscan
+
+namespace loopscan {
+
+Signature birds_eye_signature(const BirdsEyePlace& place) {
+  Signature s(1, static_cast<Eigen::Index>(place.image.size() + place.key.size()));
+  Eigen::Index c = 0;
+  for (std::uint8_t v : place.image) s(0, c++) = v;
+  for (std::int8_t v : place.key) s(0, c++) = v;
+  return s;
+}
+
+BirdsEyePlace birds_eye_place(const double* values, int columns,
+                              const BirdsEyePlaceConfig& config) {
+  const int side = image_side(config), cells = side * side;
+  const int expected = birds_eye_signature_columns(config);
+  require(columns == expected, "a place signature holds " + std::to_string(expected) +
+                                   " values (image " + std::to_string(side) + " x " +
+                                   std::to_string(side) + ", key " + std::to_string(config.rings) +
+                                   " x " + std::to_string(config.angles) + "), got " +
+                                   std::to_string(columns));
+  auto whole_in = [&](int c, double lo, double hi) {
+    const double v = values[c];
+    require(v >= lo && v <= hi && v == std::floor(v),
+            "signature value " + std::to_string(c) + " is " + std::to_string(v) +
+                ", expected a whole number in [" + std::to_string(int(lo)) + ", " +
+                std::to_string(int(hi)) + "]");
+    return static_cast<int>(v);
+  };
+  BirdsEyePlace place;
+  place.side = side;
+  place.image.resize(cells);
+  place.key.resize(static_cast<std::size_t>(config.rings) * config.angles);
+  for (int c = 0; c < cells; ++c) place.image[c] = static_cast<std::uint8_t>(whole_in(c, 0, 255));
+  for (std::size_t k = 0; k < place.key.size(); ++k) {
+    place.key[k] = static_cast<std::int8_t>(whole_in(cells + static_cast<int>(k), -127, 127));
+  }
+  return place;
+}
+
+BirdsEyePlace birds_eye_place(const Signature& signature, const BirdsEyePlaceConfig& config) {
+  require(signature.rows() == 1, "a place signature is one row, got " +
+                                     std::to_string(signature.rows()));
+  const Eigen::RowVectorXd row = signature.row(0);
+  return birds_eye_place(row.data(), static_cast<int>(row.size()), config);
 }
 
 }  // namespace loopscan

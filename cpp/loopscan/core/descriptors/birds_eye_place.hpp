@@ -6,9 +6,13 @@
 // shifts the key along its angles. One circular correlation of two keys therefore compares
 // places seen from anywhere nearby, in any direction, and gives their yaw; the images then give
 // the metric offset (birds_eye_match.hpp).
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "loopscan/core/signature.hpp"
 
 namespace loopscan {
 
@@ -33,7 +37,14 @@ struct BirdsEyePlaceConfig {
 
 // Throws std::invalid_argument naming the first bad field.
 void validate(const BirdsEyePlaceConfig& config);
-int image_side(const BirdsEyePlaceConfig& config);
+inline int image_side(const BirdsEyePlaceConfig& config) {
+  return std::max(1, static_cast<int>(std::lround(2.0 * config.range_m / config.cell_m)));
+}
+// A place as a signature row: [image (side^2 values 0..255) | key (rings x angles, -127..127)].
+inline int birds_eye_signature_columns(const BirdsEyePlaceConfig& config) {
+  const int side = image_side(config);
+  return side * side + config.rings * config.angles;
+}
 
 struct BirdsEyePlace {
   int side = 0;                     // image cells per side
@@ -60,6 +71,13 @@ class BirdsEyeDescriber {
   int side_ = 0;
   std::vector<float> weights_;  // per cell: 1 within taper_start_m, sin^2 down to 0 at taper_end_m
 };
+
+Signature birds_eye_signature(const BirdsEyePlace& place);
+// Throws std::invalid_argument when the signature is not one row of
+// birds_eye_signature_columns(config) whole values in the image's and the key's ranges.
+BirdsEyePlace birds_eye_place(const Signature& signature, const BirdsEyePlaceConfig& config);
+// The same from the row's values (`columns` of them).
+BirdsEyePlace birds_eye_place(const double* values, int columns, const BirdsEyePlaceConfig& config);
 
 // One place (a describer built for it: prefer BirdsEyeDescriber for many places).
 BirdsEyePlace describe_birds_eye(const float* x, const float* y, const float* z, std::size_t n,

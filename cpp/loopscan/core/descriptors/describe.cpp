@@ -4,6 +4,9 @@
 #include "loopscan/core/descriptors/m2dp.hpp"
 #include "loopscan/core/descriptors/scan_context.hpp"
 
+#include <stdexcept>
+#include <vector>
+
 namespace loopscan {
 
 DescriptorConfig DescriptorConfig::for_mode(Mode mode, double range_m) {
@@ -29,6 +32,8 @@ DescriptorFrame descriptor_frame(Method method, const DescriptorConfig& config) 
       return config.m2dp.mode == Mode::Reference ? DescriptorFrame::Pca : config.m2dp.frame;
     case Method::Delight:
       break;
+    case Method::BirdsEye:
+      return DescriptorFrame::Camera;
   }
   return config.delight.mode == Mode::Reference ? DescriptorFrame::Pca : config.delight.frame;
 }
@@ -43,6 +48,18 @@ Signature describe(Method method, const Cloud& scan, const DescriptorConfig& con
       return m2dp_signature(scan, config.m2dp);
     case Method::Delight:
       return delight_signature(scan, config.delight);
+    case Method::BirdsEye: {
+      std::vector<float> x(scan.size()), y(scan.size()), z(scan.size());
+      for (std::size_t i = 0; i < scan.size(); ++i) {
+        const Eigen::Vector3d& p = scan[i].p;
+        if (!p.allFinite()) throw std::invalid_argument("describe: a scan point is not finite");
+        x[i] = static_cast<float>(p.x());
+        y[i] = static_cast<float>(p.y());
+        z[i] = static_cast<float>(p.z());
+      }
+      return birds_eye_signature(
+          BirdsEyeDescriber(config.birds_eye).describe(x.data(), y.data(), z.data(), x.size()));
+    }
   }
   return {};
 }

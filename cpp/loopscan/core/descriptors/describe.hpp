@@ -1,6 +1,7 @@
 #pragma once
-// One entry point for the three descriptors.
+// One entry point for the descriptors.
 #include "loopscan/core/config.hpp"
+#include "loopscan/core/descriptors/birds_eye_place.hpp"
 #include "loopscan/core/signature.hpp"
 
 namespace loopscan {
@@ -12,6 +13,7 @@ struct DescriptorConfig {
   ScanContextConfig scan_context;
   M2dpConfig m2dp;
   DelightConfig delight;
+  BirdsEyePlaceConfig birds_eye;  // always in the keyframe's camera frame
   // Sets the mode of every descriptor and the radius of SC / M2DP to the imitation range; in
   // default mode Scan Context uses the camera frame and kDefaultLateralVersions.
   static DescriptorConfig for_mode(Mode mode, double range_m = 45.0);

@@ -202,8 +202,8 @@ BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
   return s;
 }
 
-BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrum& query,
-                                   const BirdsEyeKeySpectrum& place) {
+BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
+                                   const BirdsEyeKeySpectrumView& place) {
   if (query.rings != place.rings || query.angles != place.angles || query.angles < 2) {
     throw std::invalid_argument("birds_eye: key spectra of the same rings and angles expected");
   }
@@ -216,10 +216,10 @@ BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrum& query,
   xr.assign(terms, 0.f);
   xi.assign(terms, 0.f);
   for (int r = 0; r < query.rings; ++r) {
-    const float* qr = query.re.data() + std::size_t(r) * terms;
-    const float* qi = query.im.data() + std::size_t(r) * terms;
-    const float* dr = place.re.data() + std::size_t(r) * terms;
-    const float* di = place.im.data() + std::size_t(r) * terms;
+    const float* qr = query.re + std::size_t(r) * terms;
+    const float* qi = query.im + std::size_t(r) * terms;
+    const float* dr = place.re + std::size_t(r) * terms;
+    const float* di = place.im + std::size_t(r) * terms;
     for (int k = 0; k < terms; ++k) {
       xr[k] += qr[k] * dr[k] + qi[k] * di[k];
       xi[k] += qi[k] * dr[k] - qr[k] * di[k];

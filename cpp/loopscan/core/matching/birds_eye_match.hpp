@@ -23,9 +23,23 @@ struct BirdsEyeKeySpectrum {
   double norm = 0;
 };
 BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles);
+// A spectrum held elsewhere (a database record).
+struct BirdsEyeKeySpectrumView {
+  int rings = 0, angles = 0;
+  const float* re = nullptr;
+  const float* im = nullptr;
+  double norm = 0;
+};
+inline BirdsEyeKeySpectrumView view(const BirdsEyeKeySpectrum& s) {
+  return {s.rings, s.angles, s.re.data(), s.im.data(), s.norm};
+}
 // Throws std::invalid_argument when the spectra differ in rings or angles.
-BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrum& query,
-                                   const BirdsEyeKeySpectrum& place);
+BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
+                                   const BirdsEyeKeySpectrumView& place);
+inline BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrum& query,
+                                          const BirdsEyeKeySpectrum& place) {
+  return match_key_spectra(view(query), view(place));
+}
 
 // The place in the query's camera frame on the ground plane: a place point (x, z) lies at
 // R(yaw) (x, z) + (x_m, z_m) in the query, R turning x towards z; yaw is about the camera's up
@@ -38,7 +52,13 @@ struct BirdsEyePose {
 struct BirdsEyeSearchConfig {
   double max_shift_m = 12.0;  // searched in x and z around the keyframes' offset of zero
   int yaw_steps = 0;          // extra yaws each side of the key's, one key angle apart
+  // Places ranked by key whose images are searched (a difference-matrix row's or a database
+  // query's finalists): the image search costs ~200x a key match.
+  int finalists = 10;
 };
+
+// The bird's-eye place distance: 1 - the image score at the place's best pose, in [0, 1].
+inline double birds_eye_distance(const BirdsEyePose& pose) { return 1.0 - pose.score; }
 
 // The best pose over the key's yaw, the yaw plus pi (and yaw_steps around each) and every
 // whole-cell shift within max_shift_m, refined to a fraction of a cell. Throws

@@ -238,6 +238,8 @@ std::unique_ptr<PlaceMatcher> make_matcher(Method method, Precision precision,
       return make_m2dp_matcher(precision);
     case Method::Delight:
       return make_delight_matcher(precision);
+    case Method::BirdsEye:
+      return make_birds_eye_matcher();
   }
   return nullptr;
 }

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "loopscan/core/config.hpp"
+#include "loopscan/core/matching/birds_eye_match.hpp"
 #include "loopscan/core/signature.hpp"
 
 namespace loopscan {
@@ -17,10 +18,15 @@ class PlaceMatcher {
   virtual ~PlaceMatcher() = default;
   virtual void add(const Signature& place) = 0;
   virtual std::size_t size() const = 0;
-  // Distance components: 2 for SC and M2DP (structure, intensity), 1 for DELIGHT.
+  // Distance components: 2 for SC and M2DP (structure, intensity), 1 for DELIGHT and bird's-eye.
   virtual int components() const = 0;
   // rows(c, j) = component c of the distance from `query` to database place j.
   virtual void distances(const Signature& query, Eigen::MatrixXd& rows) const = 0;
+  // Two-stage methods (the bird's-eye place) rank by a key in distances(); rerank then scores
+  // the best finalists among the columns the query may match (|query_index - j| >= mask_width)
+  // exactly and sets every other column to +inf. One-stage methods leave the rows alone.
+  virtual void rerank(const Signature& /*query*/, int /*query_index*/, int /*mask_width*/,
+                      Eigen::MatrixXd& /*rows*/) const {}
 };
 
 std::unique_ptr<PlaceMatcher> make_matcher(Method method, Precision precision,
@@ -30,5 +36,8 @@ std::unique_ptr<PlaceMatcher> make_scan_context_matcher(Precision precision,
                                                         const ScanContextConfig& config);
 std::unique_ptr<PlaceMatcher> make_m2dp_matcher(Precision precision);
 std::unique_ptr<PlaceMatcher> make_delight_matcher(Precision precision);
+// Key distances (exact, float) in distances(); rerank searches the images of `finalists`.
+std::unique_ptr<PlaceMatcher> make_birds_eye_matcher(const BirdsEyePlaceConfig& place = {},
+                                                     const BirdsEyeSearchConfig& search = {});
 
 }  // namespace loopscan
