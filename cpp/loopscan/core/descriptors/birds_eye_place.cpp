@@ -161,10 +161,6 @@ BirdsEyePlace BirdsEyeDescriber::describe(const float* x, const float* y, const 
   return place;
 }
 
-}  // namespace loopscan
-
-namespace loopscan {
-
 Signature birds_eye_signature(const BirdsEyePlace& place) {
   Signature s(1, static_cast<Eigen::Index>(place.image.size() + place.key.size()));
   Eigen::Index c = 0;
