@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "loopscan/core/database/database.hpp"
 #include "loopscan/core/descriptors/describe.hpp"
 #include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/core/matching/birds_eye_match.hpp"
@@ -231,9 +232,13 @@ void BM_BirdsEyeKeyRow(benchmark::State& state) {
   per_item(state, 1);
 }
 
-// The image search of one finalist (the key's yaw and the yaw plus pi, +-12 m).
+// The image search of one finalist (the key's yaw and the yaw plus pi, +-12 m): every shift
+// at full resolution (coarse 1), or coarse to fine around the best peaks.
 void BM_BirdsEyePose(benchmark::State& state) {
   const BirdsEyePlaceConfig config;
+  BirdsEyeSearchConfig search;
+  search.coarse_cells = static_cast<int>(state.range(0));
+  search.refined_peaks = static_cast<int>(state.range(1));
   const auto& places = birds_eye_places();
   std::vector<double> yaws;  // each place against the next: the key's yaw, outside the timing
   for (std::size_t i = 0; i < places.size(); ++i) {
@@ -243,7 +248,28 @@ void BM_BirdsEyePose(benchmark::State& state) {
   for (auto _ : state) {
     const std::size_t i = q++ % places.size();
     benchmark::DoNotOptimize(
-        birds_eye_pose(places[i], places[(i + 1) % places.size()], yaws[i], config).score);
+        birds_eye_pose(places[i], places[(i + 1) % places.size()], yaws[i], config, search).score);
+  }
+  per_item(state, 1);
+}
+
+// A database query as `db query` and the Recognizer run it: every place's key, then the image
+// search of the finalists, against 880 places (the described keyframes cycled).
+void BM_BirdsEyeQuery(benchmark::State& state) {
+  DatabaseConfig config;
+  config.method = Method::BirdsEye;
+  config.birds_eye_search.finalists = static_cast<int>(state.range(0));
+  Database db(config);
+  const auto& places = birds_eye_places();
+  for (int i = 0; i < 880; ++i) {
+    db.add({0, i}, {birds_eye_signature(places[static_cast<std::size_t>(i) % places.size()])});
+  }
+  QueryOptions options;
+  options.retrieval = Retrieval::Exact;
+  std::size_t q = 0;
+  for (auto _ : state) {
+    const BirdsEyePlace& query = places[q++ % places.size()];
+    benchmark::DoNotOptimize(db.query({birds_eye_signature(query)}, 1, options).size());
   }
   per_item(state, 1);
 }
@@ -300,7 +326,13 @@ BENCHMARK(BM_QueryScanContextVersions)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RecognizerStream)->Unit(benchmark::kMillisecond)->Iterations(2);
 BENCHMARK(BM_BirdsEyeDescribe)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BirdsEyeKeyRow)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_BirdsEyePose)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BirdsEyeQuery)->ArgNames({"finalists"})->Arg(10)->Arg(5)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_BirdsEyePose)
+    ->ArgNames({"coarse", "peaks"})
+    ->Args({1, 1})
+    ->Args({2, 3})
+    ->Args({2, 5})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace loopscan

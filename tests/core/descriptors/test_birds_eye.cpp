@@ -339,6 +339,48 @@ TEST(BirdsEyeMatch, PoseSearchMatchesBruteForceAndTheTruth) {
 }
 
 
+// The default search (coarse cells, then full resolution around the best coarse peaks) against
+// every shift at full resolution, on revisits and on other places: never a better score than
+// the full search (its windows are a subset, summed in the same order), and on revisits the
+// same pose.
+TEST(BirdsEyeMatch, CoarseToFineSearchFindsTheFullSearchsPose) {
+  const BirdsEyePlaceConfig config;
+  BirdsEyeSearchConfig full;
+  full.coarse_cells = 1;
+  const BirdsEyeSearchConfig coarse;
+  ASSERT_GT(coarse.coarse_cells, 1);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int revisits = 0, same = 0, others = 0;
+  for (int trial = 0; trial < 24; ++trial) {
+    const auto world = street_world(60 + trial / 2);
+    const auto other = street_world(90 + trial);
+    const double pz = 20 * u(rng);
+    const BirdsEyePlace place = describe(scan_at(world, 3 * u(rng), pz, M_PI * u(rng)));
+    const BirdsEyePlace query = describe(scan_at(world, 3 * u(rng), pz + 8 * u(rng), M_PI * u(rng)));
+    const BirdsEyePlace stranger = describe(scan_at(other, 0, 0, M_PI * u(rng)));
+    for (const BirdsEyePlace* d : {&place, &stranger}) {
+      const double yaw = match_keys(query, *d, config.angles).yaw_rad;
+      const BirdsEyePose a = birds_eye_pose(query, *d, yaw, config, full);
+      const BirdsEyePose b = birds_eye_pose(query, *d, yaw, config, coarse);
+      EXPECT_LE(b.score, a.score + 1e-12) << trial;
+      if (d == &stranger) {
+        ++others;
+        continue;
+      }
+      ++revisits;
+      if (std::abs(a.score - b.score) < 1e-12 && std::abs(a.x_m - b.x_m) < 1e-9 &&
+          std::abs(a.z_m - b.z_m) < 1e-9 && std::abs(a.yaw_rad - b.yaw_rad) < 1e-12) {
+        ++same;
+      }
+    }
+  }
+  EXPECT_EQ(revisits, 24);
+  EXPECT_EQ(others, 24);
+  EXPECT_GE(same, 23) << "coarse to fine missed the full search's pose on " << revisits - same
+                      << " of " << revisits << " revisits";
+}
+
 // Places along two streets, each seen from a random lane and direction: the method's
 // recognition path (signature, matcher, database) and its brute-force oracles.
 struct Places {
@@ -433,13 +475,30 @@ TEST(BirdsEyeMethod, DatabaseQueriesEqualTheirBruteForceOracles) {
     reloaded.add_stored({0, i}, payload.data(), Eigen::Matrix3f::Identity(), std::nullopt);
   }
   const int angles = BirdsEyePlaceConfig{}.angles;
-  for (int q = 30; q < 36; ++q) {
-    const BirdsEyePlace& query = p.places[q];
-    // Exact: the best image distance over every place.
-    int best = 0;
-    for (int j = 1; j < 30; ++j) {
+  // The best image distance among the key's `finalists` best places.
+  auto best_of_key_finalists = [&](const BirdsEyePlace& query, int finalists) {
+    std::vector<std::pair<double, int>> by_key;
+    for (int j = 0; j < 30; ++j) by_key.emplace_back(match_keys(query, p.places[j], angles).distance, j);
+    std::sort(by_key.begin(), by_key.end());
+    int best = by_key[0].second;
+    for (int f = 1; f < finalists; ++f) {
+      const int j = by_key[f].second;
       if (image_distance(query, p.places[j]) < image_distance(query, p.places[best])) best = j;
     }
+    return best;
+  };
+  const auto matcher = make_birds_eye_matcher({}, {});  // the difference-matrix rows
+  for (int i = 0; i < 30; ++i) matcher->add(p.signatures[i]);
+  for (int q = 30; q < 36; ++q) {
+    const BirdsEyePlace& query = p.places[q];
+    // Exact: the image search of the key's finalists over every place, as the rows define it.
+    const int best = best_of_key_finalists(query, BirdsEyeSearchConfig{}.finalists);
+    Eigen::MatrixXd row;
+    matcher->distances(p.signatures[q], row);
+    matcher->rerank(p.signatures[q], 1000, 0, row);
+    Eigen::Index row_best = 0;
+    row.row(0).minCoeff(&row_best);
+    EXPECT_EQ(row_best, best);
     QueryOptions exact;
     exact.retrieval = Retrieval::Exact;
     const auto e = db.query({p.signatures[q]}, 1, exact);
@@ -449,14 +508,7 @@ TEST(BirdsEyeMethod, DatabaseQueriesEqualTheirBruteForceOracles) {
     // Indexed: the best image distance among the key's best `candidates`.
     QueryOptions indexed;
     indexed.candidates = 4;
-    std::vector<std::pair<double, int>> by_key;
-    for (int j = 0; j < 30; ++j) by_key.emplace_back(match_keys(query, p.places[j], angles).distance, j);
-    std::sort(by_key.begin(), by_key.end());
-    int best_finalist = by_key[0].second;
-    for (int f = 1; f < 4; ++f) {
-      const int j = by_key[f].second;
-      if (image_distance(query, p.places[j]) < image_distance(query, p.places[best_finalist])) best_finalist = j;
-    }
+    const int best_finalist = best_of_key_finalists(query, 4);
     for (const Database* d : {&db, &reloaded}) {
       const auto r = d->query({p.signatures[q]}, 1, indexed);
       ASSERT_EQ(r.size(), 1u);

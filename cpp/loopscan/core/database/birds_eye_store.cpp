@@ -1,11 +1,14 @@
 // Bird's-eye places: the image and the key packed as bytes (the stored form, 5,040 bytes with
-// the default config), followed in memory by the key's angular spectrum. The index is the key
-// itself: every eligible place's key is matched (about a microsecond a place) and the best
-// become the candidates, whose images the exact distance then searches (birds_eye_match.hpp).
+// the default config), followed in memory by the key's angular spectrum. Every eligible
+// place's key is matched (a fraction of a microsecond a place) and the best become the
+// finalists, whose images the distance then searches (birds_eye_match.hpp): the exact query and
+// the indexed one alike, as in the difference-matrix rows.
 #include <algorithm>
 #include <cstring>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "loopscan/core/database/place_store.hpp"
 #include "loopscan/core/matching/birds_eye_match.hpp"
@@ -17,8 +20,16 @@ std::size_t floats_for_bytes(std::size_t bytes) { return (bytes + sizeof(float) 
 
 class BirdsEyeStore final : public PlaceStore {
   struct PlaceQuery : Query {
+    PlaceQuery(BirdsEyePlace p, const BirdsEyePlaceConfig& config,
+               const BirdsEyeSearchConfig& search)
+        : place(std::move(p)), spectrum(key_spectrum(place, config.angles)),
+          images(place, config, search) {}
     BirdsEyePlace place;
     BirdsEyeKeySpectrum spectrum;
+    BirdsEyeImageSearch images;
+    // The poses found by distances(), which ground_pose() then gives without a second search.
+    mutable std::mutex mutex;
+    mutable std::vector<std::pair<const float*, BirdsEyePose>> found;
   };
 
  public:
@@ -50,14 +61,21 @@ class BirdsEyeStore final : public PlaceStore {
   void indexed_up_to(std::size_t) override {}  // the records hold the key spectra
 
   std::unique_ptr<Query> prepare(const Signature& s) const override {
-    auto q = std::make_unique<PlaceQuery>();
-    q->place = birds_eye_place(s, place_config_);
-    q->spectrum = key_spectrum(q->place, place_config_.angles);
-    return q;
+    return std::make_unique<PlaceQuery>(birds_eye_place(s, place_config_), place_config_, search_);
   }
 
   void distances(const Query& query, const float* record, double* out) const override {
-    out[0] = birds_eye_distance(pose(static_cast<const PlaceQuery&>(query), record));
+    const auto& q = static_cast<const PlaceQuery&>(query);
+    const BirdsEyePose p = pose(q, record);
+    {
+      const std::lock_guard<std::mutex> lock(q.mutex);
+      q.found.emplace_back(record, p);
+    }
+    out[0] = birds_eye_distance(p);
+  }
+
+  std::size_t exact_finalists() const override {
+    return static_cast<std::size_t>(std::max(1, search_.finalists));
   }
 
   void candidates(const Query& query, std::size_t count, std::size_t /*pool*/,
@@ -76,7 +94,14 @@ class BirdsEyeStore final : public PlaceStore {
   }
 
   std::optional<BirdsEyePose> ground_pose(const Query& query, const float* record) const override {
-    return pose(static_cast<const PlaceQuery&>(query), record);
+    const auto& q = static_cast<const PlaceQuery&>(query);
+    {
+      const std::lock_guard<std::mutex> lock(q.mutex);
+      for (const auto& [r, p] : q.found) {
+        if (r == record) return p;
+      }
+    }
+    return pose(q, record);
   }
 
   std::size_t index_bytes() const override { return 0; }
@@ -86,9 +111,9 @@ class BirdsEyeStore final : public PlaceStore {
     return floats_for_bytes(static_cast<std::size_t>(image_side(c)) * image_side(c) +
                             static_cast<std::size_t>(c.rings) * c.angles);
   }
-  // The norm, then the real and imaginary parts (rings x (angles / 2 + 1) each).
+  // The norm, then the real and imaginary parts (rings x key_spectrum_stride each).
   static std::size_t spectrum_floats(const BirdsEyePlaceConfig& c) {
-    return 1 + 2 * static_cast<std::size_t>(c.rings) * (c.angles / 2 + 1);
+    return 1 + 2 * static_cast<std::size_t>(c.rings) * key_spectrum_stride(c.angles);
   }
 
   void pack(const BirdsEyePlace& place, float* payload) const {
@@ -108,13 +133,13 @@ class BirdsEyeStore final : public PlaceStore {
   }
   BirdsEyeKeySpectrumView spectrum(const float* record) const {
     const float* s = record + payload_floats();
-    const std::size_t terms = static_cast<std::size_t>(place_config_.rings) *
-                              (place_config_.angles / 2 + 1);
-    return {place_config_.rings, place_config_.angles, s + 1, s + 1 + terms, s[0]};
+    const int stride = key_spectrum_stride(place_config_.angles);
+    const std::size_t floats = static_cast<std::size_t>(place_config_.rings) * stride;
+    return {place_config_.rings, place_config_.angles, stride, s + 1, s + 1 + floats, s[0]};
   }
   BirdsEyePose pose(const PlaceQuery& q, const float* record) const {
     const double yaw = match_key_spectra(view(q.spectrum), spectrum(record)).yaw_rad;
-    return birds_eye_pose(q.place, unpack(record), yaw, place_config_, search_);
+    return q.images.pose(unpack(record), yaw);
   }
 
   BirdsEyePlaceConfig place_config_;

@@ -138,7 +138,9 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
   // The places scored exactly: all eligible ones, or the index's candidates.
   std::vector<std::size_t> scored;
   const bool exact = options.retrieval == Retrieval::Exact;
-  if (exact) {
+  if (exact && store_->exact_finalists() > 0) {
+    store_->candidates(*query, store_->exact_finalists(), 0, eligible, n, scored);
+  } else if (exact) {
     for (std::size_t i = 0; i < limit; ++i) {
       if (eligible(i)) scored.push_back(i);
     }

@@ -71,7 +71,7 @@ void validate(const BirdsEyePlaceConfig& c) {
   require(c.taper_start_m >= 0 && c.taper_end_m > c.taper_start_m,
           "taper_end_m must exceed taper_start_m >= 0");
   require(std::isfinite(c.min_height_m), "min_height_m must be finite");
-  require(c.rings >= 1 && c.angles >= 2, "rings >= 1 and angles >= 2");
+  require(c.rings >= 1 && c.angles >= 2 && c.angles <= 720, "rings >= 1 and 2 <= angles <= 720");
   // The key's bilinear samples reach one frequency past max_frequency, below Nyquist.
   require(c.min_frequency >= 0 && c.max_frequency >= c.min_frequency &&
               c.max_frequency <= c.spectrum_size / 2.0 - 1,
@@ -180,10 +180,11 @@ BirdsEyePlace birds_eye_place(const double* values, int columns,
                                    std::to_string(columns));
   auto whole_in = [&](int c, double lo, double hi) {
     const double v = values[c];
-    require(v >= lo && v <= hi && v == std::floor(v),
-            "signature value " + std::to_string(c) + " is " + std::to_string(v) +
-                ", expected a whole number in [" + std::to_string(int(lo)) + ", " +
-                std::to_string(int(hi)) + "]");
+    if (!(v >= lo && v <= hi && v == std::floor(v))) {  // the message only when it is needed
+      require(false, "signature value " + std::to_string(c) + " is " + std::to_string(v) +
+                         ", expected a whole number in [" + std::to_string(int(lo)) + ", " +
+                         std::to_string(int(hi)) + "]");
+    }
     return static_cast<int>(v);
   };
   BirdsEyePlace place;

@@ -1,12 +1,12 @@
 #include "loopscan/core/matching/birds_eye_match.hpp"
 
-#include "loopscan/core/peak_vertex.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+
+#include "loopscan/core/simd.hpp"
 
 namespace loopscan {
 namespace {
@@ -17,62 +17,15 @@ double squared_norm(const std::vector<std::int8_t>& v) {
   return s;
 }
 
-void check_images(const BirdsEyePlace& query, const BirdsEyePlace& place,
-                  const BirdsEyePlaceConfig& config) {
-  const int side = image_side(config);
-  const std::size_t cells = std::size_t(side) * std::size_t(side);
-  if (query.side != side || place.side != side || query.image.size() != cells ||
-      place.image.size() != cells) {
-    throw std::invalid_argument("birds_eye: images of " + std::to_string(side) + " x " +
-                                std::to_string(side) + " cells expected");
-  }
-}
-
-// The place image turned by yaw into the query's orientation: cell p of the result samples the
-// place at R(yaw)^T p (bilinear; zero outside).
-std::vector<float> turned_image(const BirdsEyePlace& place, double yaw, double cell_m,
-                                double range_m) {
-  const int n = place.side;
-  std::vector<float> out(std::size_t(n) * std::size_t(n), 0.f);
-  const double c = std::cos(yaw), s = std::sin(yaw);
-  auto at = [&](int r, int col) -> double {
-    if (r < 0 || r >= n || col < 0 || col >= n) return 0.0;
-    return place.image[std::size_t(r) * n + col];
-  };
-  for (int r = 0; r < n; ++r) {
-    const double z = (r + 0.5) * cell_m - range_m;
-    for (int col = 0; col < n; ++col) {
-      const double x = (col + 0.5) * cell_m - range_m;
-      // R^T (x, z): R turns x towards z by yaw.
-      const double px = c * x + s * z, pz = -s * x + c * z;
-      const double fc = (px + range_m) / cell_m - 0.5, fr = (pz + range_m) / cell_m - 0.5;
-      const double c0 = std::floor(fc), r0 = std::floor(fr);
-      const double wc = fc - c0, wr = fr - r0;
-      const int ci = int(c0), ri = int(r0);
-      out[std::size_t(r) * n + col] =
-          float((1 - wr) * ((1 - wc) * at(ri, ci) + wc * at(ri, ci + 1)) +
-                wr * ((1 - wc) * at(ri + 1, ci) + wc * at(ri + 1, ci + 1)));
-    }
-  }
-  return out;
-}
-
-double wrap_angle(double a) {
-  a = std::remainder(a, 2 * M_PI);
-  return a <= -M_PI ? a + 2 * M_PI : a;
-}
-
-// cos and sin of 2 pi i / A, and per shift s the terms' cos and sin of 2 pi k s / A.
+// cos and sin of 2 pi i / A.
 struct UnitCircle {
   int angles = 0;
   std::vector<double> cos, sin;
-  std::vector<float> shift_cos, shift_sin;  // angles x (angles / 2 + 1)
 };
 
 const UnitCircle& unit_circle(int angles) {
   thread_local UnitCircle circle;
   if (circle.angles == angles) return circle;
-  const int terms = angles / 2 + 1;
   circle.angles = angles;
   circle.cos.resize(angles);
   circle.sin.resize(angles);
@@ -80,64 +33,112 @@ const UnitCircle& unit_circle(int angles) {
     circle.cos[i] = std::cos(2 * M_PI * i / angles);
     circle.sin[i] = std::sin(2 * M_PI * i / angles);
   }
-  circle.shift_cos.resize(std::size_t(angles) * terms);
-  circle.shift_sin.resize(std::size_t(angles) * terms);
-  for (int s = 0; s < angles; ++s) {
-    for (int k = 0; k < terms; ++k) {
-      const int i = (k * s) % angles;
-      circle.shift_cos[std::size_t(s) * terms + k] = float(circle.cos[i]);
-      circle.shift_sin[std::size_t(s) * terms + k] = float(circle.sin[i]);
-    }
-  }
   return circle;
 }
 
-// The query image zero-padded by max_cells on every side, and its norm: what every turned
-// place is correlated with, built once per query and place.
-struct PaddedQuery {
-  PaddedQuery(const BirdsEyePlace& query, int max_cells)
-      : n(query.side), m(max_cells), side(query.side + 2 * max_cells),
-        cells(std::size_t(side) * std::size_t(side), 0.f) {
-    double sq = 0;
-    for (int r = 0; r < n; ++r) {
-      for (int c = 0; c < n; ++c) {
-        const float v = query.image[std::size_t(r) * n + c];
-        cells[std::size_t(r + m) * side + c + m] = v;
-        sq += double(v) * v;
-      }
-    }
-    norm = std::sqrt(sq);
-  }
-  int n, m, side;
-  std::vector<float> cells;
-  double norm = 0;
+// The inverse transform of a cross spectrum, per term k and shift s < H: w_k cos(2 pi k s / A)
+// and w_k sin(..), w_k counting the conjugate-symmetric half twice. For even A only the first
+// H = A / 2 shifts are tabled: corr(s + H) = E(s) - O(s) where corr(s) = E(s) + O(s), E and O
+// the sums over even and odd terms.
+struct ShiftTables {
+  int angles = 0, terms = 0, half = 0, padded = 0;  // padded: shifts rounded up to kLanes
+  std::vector<float> cos, sin;                        // terms x padded
 };
+constexpr int kLanes = simd::kChunkLanes<float> * 2;  // the widest kernel's lanes (16)
 
-// birds_eye_correlation on a padded query: sparse over the turned place (most cells hold no
-// structure), each place cell adding a contiguous run of the padded query.
-std::vector<double> correlate(const PaddedQuery& query, const BirdsEyePlace& place,
-                              double yaw_rad, const BirdsEyePlaceConfig& config) {
-  const int n = query.n, w = 2 * query.m + 1;
-  std::vector<double> out(std::size_t(w) * std::size_t(w), 0.0);
-  const std::vector<float> turned = turned_image(place, yaw_rad, config.cell_m, config.range_m);
-  double turned_sq = 0;
-  for (float v : turned) turned_sq += double(v) * v;
-  const double norms = std::sqrt(turned_sq) * query.norm;
-  if (!(norms > 0)) return out;
-  std::vector<float> sums(out.size(), 0.f);
-  for (int r = 0; r < n; ++r) {
-    for (int c = 0; c < n; ++c) {
-      const float v = turned[std::size_t(r) * n + c];
-      if (v == 0.f) continue;
-      for (int dz = 0; dz < w; ++dz) {  // query row r + dz - m, columns c - m .. c + m
-        const float* row = query.cells.data() + std::size_t(r + dz) * query.side + c;
-        float* o = sums.data() + std::size_t(dz) * w;
-        for (int dx = 0; dx < w; ++dx) o[dx] += v * row[dx];
-      }
+const ShiftTables& shift_tables(int angles) {
+  thread_local ShiftTables t;
+  if (t.angles == angles) return t;
+  t.angles = angles;
+  t.terms = angles / 2 + 1;
+  t.half = angles % 2 == 0 ? angles / 2 : angles;
+  t.padded = (t.half + kLanes - 1) / kLanes * kLanes;
+  t.cos.assign(std::size_t(t.terms) * t.padded, 0.f);
+  t.sin.assign(std::size_t(t.terms) * t.padded, 0.f);
+  for (int k = 0; k < t.terms; ++k) {
+    const double w = (k == 0 || 2 * k == angles) ? 1.0 : 2.0;
+    for (int s = 0; s < t.half; ++s) {
+      const double a = 2 * M_PI * double((std::int64_t(k) * s) % angles) / angles;
+      t.cos[std::size_t(k) * t.padded + s] = float(w * std::cos(a));
+      t.sin[std::size_t(k) * t.padded + s] = float(w * std::sin(a));
     }
   }
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = sums[i] / norms;
-  return out;
+  return t;
+}
+
+constexpr int kMaxAngles = 720;
+
+// The correlation of two key spectra at every shift (out[s], s < A): the cross spectrum summed
+// over rings, then its inverse transform. W: the vector width in bytes.
+template <int W>
+LOOPSCAN_INLINE void shift_correlations_impl(const BirdsEyeKeySpectrumView& q,
+                                             const BirdsEyeKeySpectrumView& d,
+                                             const ShiftTables& t, float* out) {
+  using V = typename simd::Vec<float, W>::type;
+  constexpr int L = simd::Vec<float, W>::kLanes;
+  const int stride = q.stride, blocks = stride / L;
+  alignas(64) float xr[kMaxAngles / 2 + kLanes], xi[kMaxAngles / 2 + kLanes];
+  for (int b = 0; b < blocks; ++b) {
+    V ar{}, ai{};
+    for (int r = 0; r < q.rings; ++r) {
+      const std::size_t o = std::size_t(r) * stride + std::size_t(b) * L;
+      const V qr = simd::load<V>(q.re + o), qi = simd::load<V>(q.im + o);
+      const V dr = simd::load<V>(d.re + o), di = simd::load<V>(d.im + o);
+      ar += qr * dr + qi * di;
+      ai += qi * dr - qr * di;
+    }
+    simd::store(xr + b * L, ar);
+    simd::store(xi + b * L, ai);
+  }
+  const int sblocks = t.padded / L;
+  alignas(64) float even[kMaxAngles + kLanes], odd[kMaxAngles + kLanes];
+  const bool fold = t.half != t.angles;
+  for (int j = 0; j < sblocks; ++j) {
+    V e{}, o{};
+    for (int k = 0; k < t.terms; ++k) {
+      const std::size_t at = std::size_t(k) * t.padded + std::size_t(j) * L;
+      const V term = xr[k] * simd::load<V>(t.cos.data() + at) - xi[k] * simd::load<V>(t.sin.data() + at);
+      if (fold && (k & 1)) {
+        o += term;
+      } else {
+        e += term;
+      }
+    }
+    simd::store(even + j * L, e);
+    simd::store(odd + j * L, o);
+  }
+  for (int s = 0; s < t.half; ++s) out[s] = even[s] + odd[s];
+  if (fold) {
+    for (int s = 0; s < t.half; ++s) out[t.half + s] = even[s] - odd[s];
+  }
+}
+
+void shift_correlations_base(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
+                             const ShiftTables& t, float* out) {
+  shift_correlations_impl<16>(q, d, t, out);
+}
+#if LOOPSCAN_HAVE_AVX2_CLONES
+LOOPSCAN_AVX2 void shift_correlations_avx2(const BirdsEyeKeySpectrumView& q,
+                                           const BirdsEyeKeySpectrumView& d,
+                                           const ShiftTables& t, float* out) {
+  shift_correlations_impl<32>(q, d, t, out);
+}
+LOOPSCAN_AVX512 void shift_correlations_avx512(const BirdsEyeKeySpectrumView& q,
+                                               const BirdsEyeKeySpectrumView& d,
+                                               const ShiftTables& t, float* out) {
+  shift_correlations_impl<64>(q, d, t, out);
+}
+#endif
+
+void shift_correlations(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
+                        const ShiftTables& t, float* out) {
+#if LOOPSCAN_HAVE_AVX2_CLONES
+  static const auto kernel =
+      simd::widest(shift_correlations_avx512, shift_correlations_avx2, shift_correlations_base);
+#else
+  static const auto kernel = shift_correlations_base;
+#endif
+  kernel(q, d, t, out);
 }
 
 }  // namespace
@@ -174,29 +175,29 @@ BirdsEyeKeyMatch match_keys(const BirdsEyePlace& query, const BirdsEyePlace& pla
 }
 
 BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
-  if (angles < 2 || place.key.size() % std::size_t(angles) != 0) {
+  if (angles < 2 || angles > kMaxAngles || place.key.size() % std::size_t(angles) != 0) {
     throw std::invalid_argument("birds_eye: a key of whole rings of " + std::to_string(angles) +
-                                " angles expected");
+                                " angles (2 to " + std::to_string(kMaxAngles) + ") expected");
   }
   BirdsEyeKeySpectrum s;
   s.rings = int(place.key.size()) / angles;
   s.angles = angles;
   const int terms = angles / 2 + 1;
-  s.re.assign(std::size_t(s.rings) * terms, 0.f);
-  s.im.assign(std::size_t(s.rings) * terms, 0.f);
+  s.stride = key_spectrum_stride(angles);
+  s.re.assign(std::size_t(s.rings) * s.stride, 0.f);
+  s.im.assign(std::size_t(s.rings) * s.stride, 0.f);
   s.norm = std::sqrt(squared_norm(place.key));
   const UnitCircle& circle = unit_circle(angles);
   for (int r = 0; r < s.rings; ++r) {
     const std::int8_t* v = place.key.data() + std::size_t(r) * angles;
     for (int k = 0; k < terms; ++k) {
       double re = 0, im = 0;
-      for (int a = 0; a < angles; ++a) {
-        const int i = int((std::int64_t(k) * a) % angles);  // e^{-2 pi i k a / A}
-        re += v[a] * circle.cos[i];
+      for (int a = 0, i = 0; a < angles; ++a, i = (i + k) % angles) {  // i = k a mod A
+        re += v[a] * circle.cos[i];  // e^{-2 pi i k a / A}
         im -= v[a] * circle.sin[i];
       }
-      s.re[std::size_t(r) * terms + k] = float(re);
-      s.im[std::size_t(r) * terms + k] = float(im);
+      s.re[std::size_t(r) * s.stride + k] = float(re);
+      s.im[std::size_t(r) * s.stride + k] = float(im);
     }
   }
   return s;
@@ -204,84 +205,20 @@ BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
 
 BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
                                    const BirdsEyeKeySpectrumView& place) {
-  if (query.rings != place.rings || query.angles != place.angles || query.angles < 2) {
+  if (query.rings != place.rings || query.angles != place.angles || query.angles < 2 ||
+      query.angles > kMaxAngles || query.stride != key_spectrum_stride(query.angles) ||
+      place.stride != query.stride) {
     throw std::invalid_argument("birds_eye: key spectra of the same rings and angles expected");
   }
   BirdsEyeKeyMatch best;
   const double norms = query.norm * place.norm;
   if (!(norms > 0)) return best;
-  const int A = query.angles, terms = A / 2 + 1;
-  // X_k = sum over rings of Q_k conj(D_k): the cross spectrum of the two keys.
-  thread_local std::vector<float> xr, xi;
-  xr.assign(terms, 0.f);
-  xi.assign(terms, 0.f);
-  for (int r = 0; r < query.rings; ++r) {
-    const float* qr = query.re + std::size_t(r) * terms;
-    const float* qi = query.im + std::size_t(r) * terms;
-    const float* dr = place.re + std::size_t(r) * terms;
-    const float* di = place.im + std::size_t(r) * terms;
-    for (int k = 0; k < terms; ++k) {
-      xr[k] += qr[k] * dr[k] + qi[k] * di[k];
-      xi[k] += qi[k] * dr[k] - qr[k] * di[k];
-    }
-  }
-  // corr(s) = (1/A) sum_k X_k e^{2 pi i k s / A}, the conjugate-symmetric half counted twice.
-  const UnitCircle& circle = unit_circle(A);
-  for (int k = 1; k < terms; ++k) {
-    const float w = (2 * k == A) ? 1.f : 2.f;
-    xr[k] *= w;
-    xi[k] *= w;
-  }
-  double top = -1e300;
-  int top_shift = 0;
-  for (int s = 0; s < A; ++s) {
-    const float* c = circle.shift_cos.data() + std::size_t(s) * terms;
-    const float* sn = circle.shift_sin.data() + std::size_t(s) * terms;
-    float sum = 0.f;
-    for (int k = 0; k < terms; ++k) sum += xr[k] * c[k] - xi[k] * sn[k];
-    if (sum > top) {
-      top = sum;
-      top_shift = s;
-    }
-  }
-  best.distance = 1.0 - top / (A * norms);
-  best.yaw_rad = top_shift * M_PI / A;
-  return best;
-}
-
-std::vector<double> birds_eye_correlation(const BirdsEyePlace& query, const BirdsEyePlace& place,
-                                          double yaw_rad, const BirdsEyePlaceConfig& config,
-                                          int max_cells) {
-  check_images(query, place, config);
-  return correlate(PaddedQuery(query, max_cells), place, yaw_rad, config);
-}
-
-BirdsEyePose birds_eye_pose(const BirdsEyePlace& query, const BirdsEyePlace& place,
-                            double key_yaw_rad, const BirdsEyePlaceConfig& config,
-                            const BirdsEyeSearchConfig& search) {
-  check_images(query, place, config);
-  if (!(search.max_shift_m >= 0) || search.yaw_steps < 0) {
-    throw std::invalid_argument("birds_eye: max_shift_m >= 0 and yaw_steps >= 0 expected");
-  }
-  const int m = int(std::floor(search.max_shift_m / config.cell_m)), w = 2 * m + 1;
-  const double step = M_PI / config.angles;
-  const PaddedQuery padded(query, m);
-  BirdsEyePose best;
-  best.score = -1;
-  for (double base : {key_yaw_rad, key_yaw_rad + M_PI}) {
-    for (int k = -search.yaw_steps; k <= search.yaw_steps; ++k) {
-      const double yaw = wrap_angle(base + k * step);
-      const std::vector<double> corr = correlate(padded, place, yaw, config);
-      const auto top = std::max_element(corr.begin(), corr.end());
-      if (!(*top > best.score)) continue;
-      const int i = int(top - corr.begin()), row = i / w, col = i % w;
-      auto at = [&](int r, int c) { return corr[std::size_t(r) * w + c]; };
-      const double fx = (col > 0 && col < w - 1) ? parabola_vertex(at(row, col - 1), *top, at(row, col + 1)) : 0;
-      const double fz = (row > 0 && row < w - 1) ? parabola_vertex(at(row - 1, col), *top, at(row + 1, col)) : 0;
-      best = {(col - m + fx) * config.cell_m, (row - m + fz) * config.cell_m, yaw, *top};
-    }
-  }
-  best.score = std::max(best.score, 0.0);
+  const int A = query.angles;
+  alignas(64) float corr[kMaxAngles];
+  shift_correlations(query, place, shift_tables(A), corr);
+  const int top = int(std::max_element(corr, corr + A) - corr);  // the first of ties
+  best.distance = 1.0 - corr[top] / (A * norms);
+  best.yaw_rad = top * M_PI / A;
   return best;
 }
 

@@ -2,6 +2,8 @@
 // Comparing two bird's-eye places (birds_eye_place.hpp): the keys by one circular correlation
 // over their angles (a distance and the yaw modulo pi), then the images by a correlation over
 // shifts at that yaw and the yaw plus pi, for the place's metric pose in the query's frame.
+#include <memory>
+
 #include "loopscan/core/descriptors/birds_eye_place.hpp"
 
 namespace loopscan {
@@ -15,23 +17,25 @@ struct BirdsEyeKeyMatch {
 BirdsEyeKeyMatch match_keys(const BirdsEyePlace& query, const BirdsEyePlace& place, int angles);
 
 // A key ready for fast matching: per ring, the DFT along the angles (A/2 + 1 terms of a real
-// signal), and the key's norm. match_key_spectra gives match_keys' result up to float rounding
-// (a shift whose correlation ties another's within that rounding may be chosen instead).
+// signal, zero-padded to `stride` floats), and the key's norm. match_key_spectra gives
+// match_keys' result up to float rounding (a shift whose correlation ties another's within that
+// rounding may be chosen instead). Keys of 2 to 720 angles.
+inline int key_spectrum_stride(int angles) { return (angles / 2 + 1 + 15) / 16 * 16; }
 struct BirdsEyeKeySpectrum {
-  int rings = 0, angles = 0;
-  std::vector<float> re, im;  // rings x (angles / 2 + 1)
+  int rings = 0, angles = 0, stride = 0;
+  std::vector<float> re, im;  // rings x stride
   double norm = 0;
 };
 BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles);
 // A spectrum held elsewhere (a database record).
 struct BirdsEyeKeySpectrumView {
-  int rings = 0, angles = 0;
+  int rings = 0, angles = 0, stride = 0;
   const float* re = nullptr;
   const float* im = nullptr;
   double norm = 0;
 };
 inline BirdsEyeKeySpectrumView view(const BirdsEyeKeySpectrum& s) {
-  return {s.rings, s.angles, s.re.data(), s.im.data(), s.norm};
+  return {s.rings, s.angles, s.stride, s.re.data(), s.im.data(), s.norm};
 }
 // Throws std::invalid_argument when the spectra differ in rings or angles.
 BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
@@ -52,6 +56,11 @@ struct BirdsEyePose {
 struct BirdsEyeSearchConfig {
   double max_shift_m = 12.0;  // searched in x and z around the keyframes' offset of zero
   int yaw_steps = 0;          // extra yaws each side of the key's, one key angle apart
+  // The shifts are first searched on cells merged coarse_cells x coarse_cells, and the
+  // refined_peaks best of those peaks (over all yaws) then at full resolution around them;
+  // coarse_cells = 1 searches every shift at full resolution.
+  int coarse_cells = 2;
+  int refined_peaks = 5;
   // Places ranked by key whose images are searched (a difference-matrix row's or a database
   // query's finalists): the image search costs ~200x a key match.
   int finalists = 10;
@@ -60,12 +69,26 @@ struct BirdsEyeSearchConfig {
 // The bird's-eye place distance: 1 - the image score at the place's best pose, in [0, 1].
 inline double birds_eye_distance(const BirdsEyePose& pose) { return 1.0 - pose.score; }
 
-// The best pose over the key's yaw, the yaw plus pi (and yaw_steps around each) and every
-// whole-cell shift within max_shift_m, refined to a fraction of a cell. Throws
-// std::invalid_argument on images of another size than config describes.
+// The best pose over the key's yaw, the yaw plus pi (and yaw_steps around each) and the
+// whole-cell shifts within max_shift_m (all of them, or coarse to fine), refined to a fraction
+// of a cell; score 0 at (0, 0, the key's yaw) when no shift correlates at all. Throws
+// std::invalid_argument on images of another size than config describes or an invalid search.
 BirdsEyePose birds_eye_pose(const BirdsEyePlace& query, const BirdsEyePlace& place,
                             double key_yaw_rad, const BirdsEyePlaceConfig& config,
                             const BirdsEyeSearchConfig& search = {});
+
+// birds_eye_pose for one query and many places: the query's padded images are built once.
+class BirdsEyeImageSearch {
+ public:
+  // Throws std::invalid_argument as birds_eye_pose does.
+  BirdsEyeImageSearch(const BirdsEyePlace& query, const BirdsEyePlaceConfig& config,
+                      const BirdsEyeSearchConfig& search = {});
+  BirdsEyePose pose(const BirdsEyePlace& place, double key_yaw_rad) const;
+
+ private:
+  struct Prepared;
+  std::shared_ptr<const Prepared> prepared_;
+};
 
 // The normalised correlation of the query image with the place image turned by yaw_rad, at
 // every whole-cell shift (dx, dz) in [-max_cells, max_cells]^2: row-major from (-max, -max),

@@ -2,7 +2,6 @@
 // on the query's finalists (the two stages of birds_eye_match.hpp).
 #include <algorithm>
 #include <limits>
-#include <numeric>
 
 #include "loopscan/core/matching/place_matcher.hpp"
 
@@ -36,6 +35,7 @@ class BirdsEyeMatcher final : public PlaceMatcher {
               Eigen::MatrixXd& rows) const override {
     const BirdsEyePlace q = birds_eye_place(query, place_config_);
     const BirdsEyeKeySpectrum qs = key_spectrum(q, place_config_.angles);
+    const BirdsEyeImageSearch images(q, place_config_, search_);
     std::vector<int> allowed;
     for (int j = 0; j < static_cast<int>(rows.cols()); ++j) {
       if (std::abs(query_index - j) >= mask_width) allowed.push_back(j);
@@ -52,7 +52,7 @@ class BirdsEyeMatcher final : public PlaceMatcher {
     for (std::size_t i = 0; i < f; ++i) {
       const int j = allowed[i];
       const double yaw = match_key_spectra(qs, spectra_[j]).yaw_rad;
-      out(j) = birds_eye_distance(birds_eye_pose(q, places_[j], yaw, place_config_, search_));
+      out(j) = birds_eye_distance(images.pose(places_[j], yaw));
     }
     rows.row(0) = out;
   }

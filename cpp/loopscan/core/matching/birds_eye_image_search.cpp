@@ -1,0 +1,317 @@
+// The bird's-eye image search (birds_eye_match.hpp): a place image turned by a yaw and
+// correlated with the query image over shifts, first on merged cells, then at full resolution
+// around the best coarse peaks.
+#include "loopscan/core/matching/birds_eye_match.hpp"
+
+#include "loopscan/core/peak_vertex.hpp"
+#include "loopscan/core/simd.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace loopscan {
+namespace {
+
+constexpr int kLanes = 8;
+using Lanes = simd::Vec<float, kLanes * 4>::type;
+
+void check_image(const BirdsEyePlace& place, const BirdsEyePlaceConfig& config) {
+  const int side = image_side(config);
+  if (place.side != side || place.image.size() != std::size_t(side) * std::size_t(side)) {
+    throw std::invalid_argument("birds_eye: images of " + std::to_string(side) + " x " +
+                                std::to_string(side) + " cells expected");
+  }
+}
+
+// A square image of floats (a place image, turned, or merged into coarser cells) and its norm.
+struct Grid {
+  int side = 0;
+  std::vector<float> cells;
+  double norm = 0;
+};
+
+// The place image with f x f cells merged (summed; the last block of a row or column may be
+// cut short): the image itself for f = 1.
+Grid merged_image(const BirdsEyePlace& place, int f) {
+  const int n = place.side;
+  Grid out;
+  out.side = (n + f - 1) / f;
+  out.cells.assign(std::size_t(out.side) * out.side, 0.f);
+  for (int r = 0; r < n; ++r) {
+    const std::uint8_t* in = place.image.data() + std::size_t(r) * n;
+    float* o = out.cells.data() + std::size_t(r / f) * out.side;
+    for (int c0 = 0, block = 0; c0 < n; c0 += f, ++block) {
+      for (int c = c0; c < std::min(n, c0 + f); ++c) o[block] += float(in[c]);
+    }
+  }
+  double sq = 0;
+  for (float v : out.cells) sq += double(v) * v;
+  out.norm = std::sqrt(sq);
+  return out;
+}
+
+// A place image with a border of one zero cell: bilinear samples need no bounds checks.
+struct BorderedImage {
+  explicit BorderedImage(const Grid& g)
+      : n(g.side), side(g.side + 2), cells(std::size_t(side) * side, 0.f) {
+    for (int r = 0; r < n; ++r) {
+      std::copy(g.cells.begin() + std::ptrdiff_t(r) * n, g.cells.begin() + std::ptrdiff_t(r + 1) * n,
+                cells.begin() + std::ptrdiff_t(r + 1) * side + 1);
+    }
+  }
+  int n, side;
+  std::vector<float> cells;
+};
+
+// The columns [lo, hi] of a row where f0 + d col may lie in (-1, n); empty when lo > hi.
+std::pair<int, int> columns_inside(double f0, double d, int n) {
+  if (std::abs(d) < 1e-12) return (f0 > -1 && f0 < n) ? std::pair{0, n - 1} : std::pair{0, -1};
+  const double a = (-1 - f0) / d, b = (n - f0) / d;
+  const double lo = std::max(0.0, std::floor(std::min(a, b))), hi = std::min(n - 1.0, std::ceil(std::max(a, b)));
+  return {int(lo), int(hi)};
+}
+
+// The place image turned by yaw into the query's orientation: cell p of the result samples the
+// place at R(yaw)^T p (bilinear; zero outside). Cells of cell_m from -range_m in x and z.
+Grid turned_image(const BorderedImage& place, double yaw, double cell_m, double range_m) {
+  const int n = place.n;
+  Grid out;
+  out.side = n;
+  out.cells.assign(std::size_t(n) * std::size_t(n), 0.f);
+  const double c = std::cos(yaw), s = std::sin(yaw), offset = range_m / cell_m - 0.5;
+  double sq = 0;
+  for (int r = 0; r < n; ++r) {
+    const double z = (r + 0.5) * cell_m - range_m, x0 = 0.5 * cell_m - range_m;
+    // R^T (x, z) in fractional cells, R turning x towards z: linear along the row.
+    const double fc0 = (c * x0 + s * z) / cell_m + offset, fr0 = (-s * x0 + c * z) / cell_m + offset;
+    const auto [c_lo, c_hi] = columns_inside(fc0, c, n);
+    const auto [r_lo, r_hi] = columns_inside(fr0, -s, n);
+    for (int col = std::max(c_lo, r_lo); col <= std::min(c_hi, r_hi); ++col) {
+      const float fc = float(fc0 + c * col), fr = float(fr0 - s * col);
+      if (!(fc > -1.f && fc < float(n) && fr > -1.f && fr < float(n))) continue;
+      const int ci = int(fc + 1.f), ri = int(fr + 1.f);  // floor + 1: the bordered index
+      const float wc = fc + 1.f - float(ci), wr = fr + 1.f - float(ri);
+      const float* p = place.cells.data() + std::size_t(ri) * place.side + ci;
+      const float* q = p + place.side;
+      const float v = (1 - wr) * ((1 - wc) * p[0] + wc * p[1]) + wr * ((1 - wc) * q[0] + wc * q[1]);
+      out.cells[std::size_t(r) * n + col] = v;
+      sq += double(v) * v;
+    }
+  }
+  out.norm = std::sqrt(sq);
+  return out;
+}
+
+double wrap_angle(double a) {
+  a = std::remainder(a, 2 * M_PI);
+  return a <= -M_PI ? a + 2 * M_PI : a;
+}
+
+// The query image zero-padded by m cells on every side, and by a vector's lanes more on the
+// right so that whole vectors of a window's row may be read.
+struct PaddedQuery {
+  PaddedQuery(const Grid& query, int max_cells)
+      : n(query.side), m(max_cells), stride(query.side + 2 * max_cells + kLanes),
+        cells(std::size_t(query.side + 2 * max_cells) * stride, 0.f), norm(query.norm) {
+    for (int r = 0; r < n; ++r) {
+      std::copy(query.cells.begin() + std::ptrdiff_t(r) * n,
+                query.cells.begin() + std::ptrdiff_t(r + 1) * n,
+                cells.begin() + std::ptrdiff_t(r + m) * stride + m);
+    }
+  }
+  int n, m, stride;
+  std::vector<float> cells;
+  double norm = 0;
+};
+
+// Shifts (dx, dz) of the turned place into the query, dx in [x0, x1] and dz in [z0, z1], all
+// within [-m, m].
+struct Window {
+  int x0, x1, z0, z1;
+  int width() const { return x1 - x0 + 1; }
+  int height() const { return z1 - z0 + 1; }
+};
+
+// The normalised correlation at every shift of the window, row-major from (x0, z0): sparse
+// over the turned place (most cells hold no structure), each place cell adding whole vectors
+// of a row of the padded query.
+std::vector<double> correlate(const PaddedQuery& query, const Grid& turned, const Window& w) {
+  const int n = query.n, m = query.m, wx = w.width(), wz = w.height();
+  const int blocks = (wx + kLanes - 1) / kLanes;
+  std::vector<double> out(std::size_t(wx) * std::size_t(wz), 0.0);
+  const double norms = turned.norm * query.norm;
+  if (!(norms > 0)) return out;
+  std::vector<Lanes> sums(std::size_t(wz) * blocks, Lanes{});
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      const float v = turned.cells[std::size_t(r) * n + c];
+      if (v == 0.f) continue;
+      const Lanes vs = Lanes{} + v;
+      for (int dz = 0; dz < wz; ++dz) {  // query row r + z0 + dz, columns from c + x0
+        const float* row = query.cells.data() + std::size_t(r + w.z0 + dz + m) * query.stride +
+                           std::size_t(c + w.x0 + m);
+        Lanes* o = sums.data() + std::size_t(dz) * blocks;
+        for (int b = 0; b < blocks; ++b) o[b] += vs * simd::load<Lanes>(row + b * kLanes);
+      }
+    }
+  }
+  for (int dz = 0; dz < wz; ++dz) {
+    for (int dx = 0; dx < wx; ++dx) {
+      out[std::size_t(dz) * wx + dx] = sums[std::size_t(dz) * blocks + dx / kLanes][dx % kLanes] / norms;
+    }
+  }
+  return out;
+}
+
+// A peak of a correlation window: the best whole-cell shift, and that shift refined to a
+// fraction of a cell where both neighbours along an axis lie in the window.
+struct Peak {
+  int x = 0, z = 0;
+  double dx = 0, dz = 0;
+  double score = -1;
+};
+Peak peak_of(const std::vector<double>& corr, const Window& w) {
+  const int wx = w.width(), wz = w.height();
+  const auto top = std::max_element(corr.begin(), corr.end());
+  const int i = int(top - corr.begin()), row = i / wx, col = i % wx;
+  auto at = [&](int r, int c) { return corr[std::size_t(r) * wx + c]; };
+  const double fx = (col > 0 && col < wx - 1) ? parabola_vertex(at(row, col - 1), *top, at(row, col + 1)) : 0;
+  const double fz = (row > 0 && row < wz - 1) ? parabola_vertex(at(row - 1, col), *top, at(row + 1, col)) : 0;
+  return {w.x0 + col, w.z0 + row, w.x0 + col + fx, w.z0 + row + fz, *top};
+}
+
+// The local maxima of a square correlation map (ties: the first in row-major order), as
+// (score, x, z) around the map's centre.
+struct CoarsePeak {
+  double score;
+  int yaw, x, z;
+};
+void local_maxima(const std::vector<double>& corr, int mc, int yaw, std::vector<CoarsePeak>& out) {
+  const int w = 2 * mc + 1;
+  auto at = [&](int r, int c) {
+    return r < 0 || r >= w || c < 0 || c >= w ? -1.0 : corr[std::size_t(r) * w + c];
+  };
+  for (int r = 0; r < w; ++r) {
+    for (int c = 0; c < w; ++c) {
+      const double v = at(r, c);
+      bool peak = v > 0;
+      for (int dr = -1; dr <= 1 && peak; ++dr) {
+        for (int dc = -1; dc <= 1 && peak; ++dc) {
+          if (dr == 0 && dc == 0) continue;
+          const double o = at(r + dr, c + dc);
+          peak = (dr < 0 || (dr == 0 && dc < 0)) ? v > o : v >= o;
+        }
+      }
+      if (peak) out.push_back({v, yaw, c - mc, r - mc});
+    }
+  }
+}
+
+}  // namespace
+
+struct BirdsEyeImageSearch::Prepared {
+  Prepared(const BirdsEyePlace& query, const BirdsEyePlaceConfig& c, const BirdsEyeSearchConfig& s)
+      : config(c), search(s), m(int(std::floor(s.max_shift_m / c.cell_m))), f(s.coarse_cells),
+        mc((m + f - 1) / f), full(merged_image(query, 1), m), coarse(merged_image(query, f), mc) {}
+  BirdsEyePlaceConfig config;
+  BirdsEyeSearchConfig search;
+  int m, f, mc;
+  PaddedQuery full, coarse;
+};
+
+BirdsEyeImageSearch::BirdsEyeImageSearch(const BirdsEyePlace& query,
+                                         const BirdsEyePlaceConfig& config,
+                                         const BirdsEyeSearchConfig& search) {
+  validate(config);
+  check_image(query, config);
+  if (!(search.max_shift_m >= 0 && search.max_shift_m <= 2 * config.range_m) ||
+      search.yaw_steps < 0 || search.coarse_cells < 1 || search.refined_peaks < 1) {
+    throw std::invalid_argument(
+        "birds_eye: 0 <= max_shift_m <= 2 range_m, yaw_steps >= 0, coarse_cells >= 1 and "
+        "refined_peaks >= 1 expected");
+  }
+  prepared_ = std::make_shared<const Prepared>(query, config, search);
+}
+
+BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_yaw_rad) const {
+  const Prepared& q = *prepared_;
+  const BirdsEyePlaceConfig& config = q.config;
+  check_image(place, config);
+  const int m = q.m, f = q.f, mc = q.mc;
+  std::vector<double> yaws;
+  for (double base : {key_yaw_rad, key_yaw_rad + M_PI}) {
+    for (int k = -q.search.yaw_steps; k <= q.search.yaw_steps; ++k) {
+      yaws.push_back(wrap_angle(base + k * M_PI / config.angles));
+    }
+  }
+  const BorderedImage bordered(merged_image(place, 1));
+  std::vector<std::optional<Grid>> turned(yaws.size());  // full resolution, when searched
+  BirdsEyePose best;
+  best.score = -1;
+  auto search_window = [&](int y, const Window& window) {
+    if (!turned[y]) turned[y] = turned_image(bordered, yaws[y], config.cell_m, config.range_m);
+    return peak_of(correlate(q.full, *turned[y], window), window);
+  };
+  auto keep_if_better = [&](int y, const Peak& peak) {
+    if (peak.score > best.score) {
+      best = {peak.dx * config.cell_m, peak.dz * config.cell_m, yaws[y], peak.score};
+    }
+  };
+  if (f == 1) {
+    for (int y = 0; y < int(yaws.size()); ++y) keep_if_better(y, search_window(y, {-m, m, -m, m}));
+  } else {
+    // Coarse: the merged place turned on merged cells (the grid still starts at -range_m), so
+    // a full-resolution peak at shift s lies within a cell or two of f times the merged one's.
+    const BorderedImage coarse_place(merged_image(place, f));
+    std::vector<CoarsePeak> peaks;
+    for (int y = 0; y < int(yaws.size()); ++y) {
+      const Grid t = turned_image(coarse_place, yaws[y], f * config.cell_m, config.range_m);
+      local_maxima(correlate(q.coarse, t, {-mc, mc, -mc, mc}), mc, y, peaks);
+    }
+    const std::size_t keep = std::min(peaks.size(), std::size_t(q.search.refined_peaks));
+    std::partial_sort(peaks.begin(), peaks.begin() + std::ptrdiff_t(keep), peaks.end(),
+                      [](const CoarsePeak& a, const CoarsePeak& b) { return a.score > b.score; });
+    // Fine: (2f + 1)^2 shifts around f times each kept peak's shift (a merged cell blurs peaks
+    // up to f cells apart), moved while the best lies off the window's centre (each move strictly uphill, so the climb ends at a local maximum,
+    // whose window then holds both neighbours for the sub-cell refinement).
+    for (std::size_t i = 0; i < keep; ++i) {
+      int x = std::clamp(f * peaks[i].x, -m, m), z = std::clamp(f * peaks[i].z, -m, m);
+      Peak peak;
+      for (int moves = 0; moves <= 4 * m; ++moves) {
+        const Window window{std::max(-m, x - f), std::min(m, x + f), std::max(-m, z - f),
+                            std::min(m, z + f)};
+        peak = search_window(peaks[i].yaw, window);
+        if (peak.x == x && peak.z == z) break;
+        x = peak.x;
+        z = peak.z;
+      }
+      keep_if_better(peaks[i].yaw, peak);
+    }
+  }
+  best.score = std::max(best.score, 0.0);
+  if (best.score == 0.0) best = {0, 0, wrap_angle(key_yaw_rad), 0};
+  return best;
+}
+
+BirdsEyePose birds_eye_pose(const BirdsEyePlace& query, const BirdsEyePlace& place,
+                            double key_yaw_rad, const BirdsEyePlaceConfig& config,
+                            const BirdsEyeSearchConfig& search) {
+  return BirdsEyeImageSearch(query, config, search).pose(place, key_yaw_rad);
+}
+
+std::vector<double> birds_eye_correlation(const BirdsEyePlace& query, const BirdsEyePlace& place,
+                                          double yaw_rad, const BirdsEyePlaceConfig& config,
+                                          int max_cells) {
+  check_image(query, config);
+  check_image(place, config);
+  const Window all{-max_cells, max_cells, -max_cells, max_cells};
+  return correlate(PaddedQuery(merged_image(query, 1), max_cells),
+                   turned_image(BorderedImage(merged_image(place, 1)), yaw_rad, config.cell_m,
+                                config.range_m),
+                   all);
+}
+
+}  // namespace loopscan
