@@ -39,8 +39,12 @@ Grid merged_image(const BirdsEyePlace& place, int f) {
   const int n = place.side;
   Grid out;
   out.side = (n + f - 1) / f;
-  out.cells.assign(std::size_t(out.side) * out.side, 0.f);
-  for (int r = 0; r < n; ++r) {
+  if (f == 1) {
+    out.cells.assign(place.image.begin(), place.image.end());
+  } else {
+    out.cells.assign(std::size_t(out.side) * out.side, 0.f);
+  }
+  for (int r = 0; r < n && f > 1; ++r) {
     const std::uint8_t* in = place.image.data() + std::size_t(r) * n;
     float* o = out.cells.data() + std::size_t(r / f) * out.side;
     for (int c0 = 0, block = 0; c0 < n; c0 += f, ++block) {
@@ -183,8 +187,8 @@ Peak peak_of(const std::vector<double>& corr, const Window& w) {
   return {w.x0 + col, w.z0 + row, w.x0 + col + fx, w.z0 + row + fz, *top};
 }
 
-// The local maxima of a square correlation map (ties: the first in row-major order), as
-// (score, x, z) around the map's centre.
+// The local maxima of a square correlation map (ties: the first in row-major order), with the
+// yaw they were found at and their shift from the map's centre.
 struct CoarsePeak {
   double score;
   int yaw, x, z;
@@ -275,8 +279,9 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_ya
     std::partial_sort(peaks.begin(), peaks.begin() + std::ptrdiff_t(keep), peaks.end(),
                       [](const CoarsePeak& a, const CoarsePeak& b) { return a.score > b.score; });
     // Fine: (2f + 1)^2 shifts around f times each kept peak's shift (a merged cell blurs peaks
-    // up to f cells apart), moved while the best lies off the window's centre (each move strictly uphill, so the climb ends at a local maximum,
-    // whose window then holds both neighbours for the sub-cell refinement).
+    // up to f cells apart), moved while the best lies off the window's centre: each move is
+    // strictly uphill, so the climb ends at a local maximum, whose window then holds both
+    // neighbours for the sub-cell refinement.
     for (std::size_t i = 0; i < keep; ++i) {
       int x = std::clamp(f * peaks[i].x, -m, m), z = std::clamp(f * peaks[i].z, -m, m);
       Peak peak;
@@ -291,8 +296,7 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_ya
       keep_if_better(peaks[i].yaw, peak);
     }
   }
-  best.score = std::max(best.score, 0.0);
-  if (best.score == 0.0) best = {0, 0, wrap_angle(key_yaw_rad), 0};
+  if (!(best.score > 0)) best = {0, 0, wrap_angle(key_yaw_rad), 0};
   return best;
 }
 

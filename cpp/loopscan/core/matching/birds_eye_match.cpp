@@ -192,7 +192,8 @@ BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
     const std::int8_t* v = place.key.data() + std::size_t(r) * angles;
     for (int k = 0; k < terms; ++k) {
       double re = 0, im = 0;
-      for (int a = 0, i = 0; a < angles; ++a, i = (i + k) % angles) {  // i = k a mod A
+      for (int a = 0, i = 0; a < angles; ++a, i = i + k < angles ? i + k : i + k - angles) {
+        // i = k a mod A (k < A)
         re += v[a] * circle.cos[i];  // e^{-2 pi i k a / A}
         im -= v[a] * circle.sin[i];
       }
