@@ -1,5 +1,5 @@
 // Metrics by direction of the revisit, against a brute-force recount; headings from ground
-// truth files; adaptive fusion weights.
+// truth files.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,8 +8,6 @@
 #include <fstream>
 #include <random>
 
-#include "loopscan/core/matching/adaptive_fusion.hpp"
-#include "loopscan/core/matching/fusion.hpp"
 #include "loopscan/eval/direction_split.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
 
@@ -92,89 +90,6 @@ TEST(Headings, KittiCameraAxisAndRobotCarMotion) {
   ASSERT_EQ(r.size(), 10u);
   for (const auto& h : r) EXPECT_TRUE(h.isApprox(Eigen::Vector3d(1, 1, 0).normalized()));
   std::filesystem::remove_all(dir);
-}
-
-std::vector<Eigen::RowVectorXd> random_rows(std::mt19937& rng, int n, int m) {
-  std::normal_distribution<double> g;
-  std::vector<Eigen::RowVectorXd> rows(n, Eigen::RowVectorXd(m));
-  for (auto& r : rows) {
-    for (int j = 0; j < m; ++j) r[j] = g(rng);
-  }
-  return rows;
-}
-
-FusionWeights weights_of(const std::vector<Eigen::RowVectorXd>& s,
-                         const std::vector<Eigen::RowVectorXd>& g, int mask = 0) {
-  FusionStatistics a, b;  // two "threads", merged
-  for (std::size_t q = 0; q < s.size(); ++q) {
-    (q % 2 ? a : b).add_row(s[q], g[q], static_cast<int>(q), mask);
-  }
-  a.merge(b);
-  return a.weights();
-}
-
-TEST(AdaptiveFusion, AgreeingHalvesFuseLikeThePaperAContradictingHalfFades) {
-  std::mt19937 rng(3);
-  const int n = 300, m = 300;
-  auto structure = random_rows(rng, n, m);
-  for (int q = 0; q < n; ++q) structure[q][(q + 150) % m] -= 6;  // a clear revisit per query
-  FusionWeights w = weights_of(structure, structure);
-  EXPECT_DOUBLE_EQ(w.agreement, 1.0);
-  EXPECT_DOUBLE_EQ(w.structure, 2.0);
-  EXPECT_DOUBLE_EQ(w.intensity, 1.0);
-  // Intensity that knows nothing: its weight goes to ~0, structure keeps 2.
-  const auto noise = random_rows(rng, n, m);
-  w = weights_of(structure, noise);
-  EXPECT_DOUBLE_EQ(w.structure, 2.0);
-  EXPECT_LT(w.intensity, 0.05);
-  EXPECT_NEAR(w.chance, 3.0 / m, 1e-12);
-  // The other way round: the less peaked half (structure, noise) fades.
-  w = weights_of(noise, structure);
-  EXPECT_DOUBLE_EQ(w.intensity, 1.0);
-  EXPECT_LT(w.structure, 0.1);
-  // With a mask the chance level counts the allowed places only.
-  w = weights_of(structure, structure, 100);
-  EXPECT_NEAR(w.chance, 0.0, 0.02);
-  EXPECT_EQ(parse_fusion("adaptive"), Fusion::Adaptive);
-}
-
-TEST(AdaptiveFusion, FusedRowIsTheMeanOfRowAndGlobalZScoresOracle) {
-  std::mt19937 rng(9);
-  const int n = 40, m = 25;
-  const auto s = random_rows(rng, n, m), g = random_rows(rng, n, m);
-  const FusionWeights w = weights_of(s, g);
-  // Global statistics by brute force over every entry (n - 1 normaliser).
-  auto stats = [&](const std::vector<Eigen::RowVectorXd>& rows, double& mean, double& sd) {
-    double sum = 0, cnt = 0;
-    for (const auto& r : rows) {
-      for (int j = 0; j < m; ++j) sum += r[j], cnt += 1;
-    }
-    mean = sum / cnt;
-    double ss = 0;
-    for (const auto& r : rows) {
-      for (int j = 0; j < m; ++j) ss += (r[j] - mean) * (r[j] - mean);
-    }
-    sd = std::sqrt(ss / (cnt - 1));
-  };
-  double ms, ss, mi, si;
-  stats(s, ms, ss);
-  stats(g, mi, si);
-  EXPECT_NEAR(w.structure_mean, ms, 1e-12);
-  EXPECT_NEAR(w.structure_std, ss, 1e-9);
-  EXPECT_NEAR(w.intensity_std, si, 1e-9);
-  for (int q = 0; q < n; q += 7) {
-    const Eigen::RowVectorXd row = adaptive_fused_row(s[q], g[q], w);
-    for (int j = 0; j < m; ++j) {
-      auto rowz = [&](const Eigen::RowVectorXd& r) {
-        const double mean = r.mean();
-        const double sd = std::sqrt((r.array() - mean).square().sum() / (m - 1));
-        return (r[j] - mean) / sd;
-      };
-      const double want = 0.5 * (w.structure * (rowz(s[q]) + (s[q][j] - ms) / ss) +
-                                 w.intensity * (rowz(g[q]) + (g[q][j] - mi) / si));
-      EXPECT_NEAR(row[j], want, 1e-9);
-    }
-  }
 }
 
 }  // namespace

@@ -79,7 +79,9 @@ void run_evaluate(const EvaluateArgs& a) {
         {"structure", w.structure},          {"intensity", w.intensity},
         {"agreement", w.agreement},          {"chance", w.chance},
         {"reliability", w.reliability},      {"structure_peak", w.structure_peak},
-        {"intensity_peak", w.intensity_peak}};
+        {"intensity_peak", w.intensity_peak},
+        {"structure_sequence", w.structure_sequence},
+        {"intensity_sequence", w.intensity_sequence}};
   }
   const std::string title = method_name(method) + " (" + metrics["fusion"].get<std::string>() + ")";
   write_evaluation(a.out, queries.keyframe_ids, db.keyframe_ids, ev.pr, metrics, title);

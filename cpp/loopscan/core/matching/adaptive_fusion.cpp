@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "loopscan/core/matching/fusion.hpp"
 
@@ -21,6 +22,40 @@ int allowed_argmin(const Eigen::RowVectorXd& row, int query, int mask_width) {
 double deviation(double sum, double sum_sq, double n) {
   const double var = n > 1 ? (sum_sq - sum * sum / n) / (n - 1) : 0.0;
   return var > 0 ? std::sqrt(var) : 1.0;
+}
+
+// How far apart two best places may be and still follow one another: consecutive keyframes of
+// two drives advance their matches by 0-3 places.
+constexpr int kFollowWindow = 5;
+constexpr int kMinConsecutive = 20;
+// The leader gives way when its sequence reliability is below this share of the other half's.
+constexpr double kSwitchShare = 0.5;
+// Halves that agree less than this beyond chance are not fused: the leader alone decides.
+constexpr double kDropReliability = 0.1;
+
+// Consistency of consecutive queries' best places above the chance that two random queries'
+// best places are as close, (consistent - chance) / (1 - chance); NaN without enough pairs.
+// `bests` holds (query, best place) sorted by query.
+double sequence_reliability(const std::vector<std::pair<int, int>>& bests) {
+  int pairs = 0, follow = 0;
+  for (std::size_t k = 1; k < bests.size(); ++k) {
+    if (bests[k].first != bests[k - 1].first + 1) continue;
+    ++pairs;
+    follow += std::abs(bests[k].second - bests[k - 1].second) <= kFollowWindow;
+  }
+  if (pairs < kMinConsecutive) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<int> places(bests.size());
+  for (std::size_t k = 0; k < bests.size(); ++k) places[k] = bests[k].second;
+  std::sort(places.begin(), places.end());
+  double close = 0;  // unordered pairs of queries whose best places are within the window
+  for (std::size_t i = 0, j = 0; i < places.size(); ++i) {
+    while (places[i] - places[j] > kFollowWindow) ++j;
+    close += static_cast<double>(i - j);
+  }
+  const double n = static_cast<double>(places.size());
+  const double chance = close / (n * (n - 1) / 2);
+  if (chance >= 1) return 0.0;
+  return (static_cast<double>(follow) / pairs - chance) / (1 - chance);
 }
 
 }  // namespace
@@ -49,6 +84,7 @@ void FusionStatistics::add_row(const Eigen::RowVectorXd& structure,
   peak_s_ -= s[bs];
   peak_i_ -= g[bi];
   ++counted_;
+  bests_.push_back({query, bs, bi});
 }
 
 void FusionStatistics::merge(const FusionStatistics& o) {
@@ -62,6 +98,7 @@ void FusionStatistics::merge(const FusionStatistics& o) {
   chance_sum_ += o.chance_sum_;
   agree_ += o.agree_;
   counted_ += o.counted_;
+  bests_.insert(bests_.end(), o.bests_.begin(), o.bests_.end());
 }
 
 FusionWeights FusionStatistics::weights(double structure_weight) const {
@@ -80,16 +117,39 @@ FusionWeights FusionStatistics::weights(double structure_weight) const {
   w.chance = chance_sum_ / counted_;
   w.reliability =
       w.chance < 1 ? std::clamp((w.agreement - w.chance) / (1 - w.chance), 0.0, 1.0) : 1.0;
-  if (w.intensity_peak > w.structure_peak) {
-    w.structure *= w.reliability;
+  std::vector<Best> by_query = bests_;
+  std::sort(by_query.begin(), by_query.end(),
+            [](const Best& a, const Best& b) { return a.query < b.query; });
+  std::vector<std::pair<int, int>> s(by_query.size()), i(by_query.size());
+  for (std::size_t k = 0; k < by_query.size(); ++k) {
+    s[k] = {by_query[k].query, by_query[k].structure};
+    i[k] = {by_query[k].query, by_query[k].intensity};
+  }
+  w.structure_sequence = sequence_reliability(s);
+  w.intensity_sequence = sequence_reliability(i);
+  // The more peaked half leads unless its best matches follow the drive markedly less than the
+  // other half's: then it is the one without signal.
+  bool intensity_leads = w.intensity_peak > w.structure_peak;
+  if (std::isfinite(w.structure_sequence) && std::isfinite(w.intensity_sequence)) {
+    const double lead = intensity_leads ? w.intensity_sequence : w.structure_sequence;
+    const double other = intensity_leads ? w.structure_sequence : w.intensity_sequence;
+    if (lead < kSwitchShare * other) intensity_leads = !intensity_leads;
+  }
+  const double follower = w.reliability < kDropReliability ? 0.0 : w.reliability;
+  if (intensity_leads) {
+    w.structure *= follower;
   } else {
-    w.intensity *= w.reliability;
+    w.intensity *= follower;
   }
   return w;
 }
 
 Eigen::RowVectorXd adaptive_fused_row(const Eigen::RowVectorXd& structure,
                                       const Eigen::RowVectorXd& intensity, const FusionWeights& w) {
+  // One half alone ranks like that half (`--fusion structure` / `intensity`): fusing its z-scores
+  // with nothing could only reorder queries against its own judgement.
+  if (w.intensity == 0) return structure;
+  if (w.structure == 0) return intensity;
   Eigen::RowVectorXd s = structure, g = intensity;
   row_zscore(s);
   row_zscore(g);
