@@ -272,6 +272,40 @@ TEST(BirdsEyeMatch, KeySpectraAgreeWithTheDefinition) {
   EXPECT_EQ(pairs, 12 * 12 + 2 * 2 + 2 * 2);
 }
 
+// The bound-pruned search for the nearest keys returns exactly the head of every eligible
+// place's (distance, place) sorted: duplicated places (ties), places turned by any yaw, noise.
+TEST(BirdsEyeMatch, NearestKeysAreTheHeadOfTheSortedKeyDistances) {
+  const BirdsEyePlaceConfig config;
+  std::vector<BirdsEyeKeySpectrum> spectra;
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (unsigned w = 0; w < 3; ++w) {
+    const auto world = street_world(50 + w);
+    for (int k = 0; k < 30; ++k) {
+      const BirdsEyePlace p = describe(scan_at(world, 3 * u(rng), 50 * u(rng), M_PI * u(rng)));
+      spectra.push_back(key_spectrum(p, config.angles));
+      if (k % 7 == 0) spectra.push_back(spectra.back());  // a tie
+    }
+  }
+  BirdsEyePlace empty;  // a place without structure: distance 1 to everything
+  empty.key.assign(std::size_t(spectra[0].rings) * config.angles, 0);
+  spectra.push_back(key_spectrum(empty, config.angles));
+  const auto at = [&](std::size_t i) { return view(spectra[i]); };
+  for (std::size_t q = 0; q < spectra.size(); q += 11) {
+    const auto eligible = [&](std::size_t i) { return i % 5 != q % 5; };
+    std::vector<std::pair<double, std::size_t>> all;
+    for (std::size_t i = 0; i < spectra.size(); ++i) {
+      if (eligible(i)) all.emplace_back(match_key_spectra(spectra[q], spectra[i]).distance, i);
+    }
+    std::sort(all.begin(), all.end());
+    for (std::size_t count : {std::size_t(1), std::size_t(10), all.size() + 3}) {
+      const auto nearest = nearest_keys(view(spectra[q]), spectra.size(), eligible, at, count);
+      ASSERT_EQ(nearest.size(), std::min(count, all.size()));
+      for (std::size_t j = 0; j < nearest.size(); ++j) EXPECT_EQ(nearest[j], all[j]) << q << " " << j;
+    }
+  }
+}
+
 TEST(BirdsEyeMatch, CorrelationEqualsTheOracle) {
   const auto world = street_world(5);
   const BirdsEyePlaceConfig config;

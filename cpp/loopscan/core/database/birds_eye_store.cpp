@@ -81,16 +81,11 @@ class BirdsEyeStore final : public PlaceStore {
   void candidates(const Query& query, std::size_t count, std::size_t /*pool*/,
                   const Eligible& eligible, std::size_t n_places,
                   std::vector<std::size_t>& out) const override {
-    const BirdsEyeKeySpectrumView q = view(static_cast<const PlaceQuery&>(query).spectrum);
-    std::vector<std::pair<double, std::size_t>> scored;
-    for (std::size_t i = 0; i < n_places; ++i) {
-      if (eligible(i)) scored.emplace_back(match_key_spectra(q, spectrum(record(i))).distance, i);
-    }
-    const std::size_t n = std::min(count, scored.size());
-    std::partial_sort(scored.begin(), scored.begin() + static_cast<std::ptrdiff_t>(n),
-                      scored.end());
+    const auto nearest = nearest_keys(
+        view(static_cast<const PlaceQuery&>(query).spectrum), n_places, eligible,
+        [&](std::size_t i) { return spectrum(record(i)); }, count);
     out.clear();
-    for (std::size_t j = 0; j < n; ++j) out.push_back(scored[j].second);
+    for (const auto& [distance, i] : nearest) out.push_back(i);
   }
 
   std::optional<BirdsEyePose> ground_pose(const Query& query, const float* record) const override {

@@ -8,15 +8,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace loopscan {
 namespace {
 
-constexpr int kLanes = 8;
-using Lanes = simd::Vec<float, kLanes * 4>::type;
+constexpr int kLanes = 8;  // shifts of a window row summed together
 
 void check_image(const BirdsEyePlace& place, const BirdsEyePlaceConfig& config) {
   const int side = image_side(config);
@@ -78,13 +79,20 @@ std::pair<int, int> columns_inside(double f0, double d, int n) {
   return {int(lo), int(hi)};
 }
 
+// A place turned into the query's orientation, as its non-zero cells in row-major order.
+struct TurnedPlace {
+  int side = 0;
+  std::vector<int> cells;  // row * side + column
+  std::vector<float> values;
+  double norm = 0;
+};
+
 // The place image turned by yaw into the query's orientation: cell p of the result samples the
 // place at R(yaw)^T p (bilinear; zero outside). Cells of cell_m from -range_m in x and z.
-Grid turned_image(const BorderedImage& place, double yaw, double cell_m, double range_m) {
+TurnedPlace turned_image(const BorderedImage& place, double yaw, double cell_m, double range_m) {
   const int n = place.n;
-  Grid out;
+  TurnedPlace out;
   out.side = n;
-  out.cells.assign(std::size_t(n) * std::size_t(n), 0.f);
   const double c = std::cos(yaw), s = std::sin(yaw), offset = range_m / cell_m - 0.5;
   double sq = 0;
   for (int r = 0; r < n; ++r) {
@@ -101,7 +109,9 @@ Grid turned_image(const BorderedImage& place, double yaw, double cell_m, double 
       const float* p = place.cells.data() + std::size_t(ri) * place.side + ci;
       const float* q = p + place.side;
       const float v = (1 - wr) * ((1 - wc) * p[0] + wc * p[1]) + wr * ((1 - wc) * q[0] + wc * q[1]);
-      out.cells[std::size_t(r) * n + col] = v;
+      if (v == 0.f) continue;
+      out.cells.push_back(r * n + col);
+      out.values.push_back(v);
       sq += double(v) * v;
     }
   }
@@ -139,36 +149,98 @@ struct Window {
   int height() const { return z1 - z0 + 1; }
 };
 
-// The normalised correlation at every shift of the window, row-major from (x0, z0): sparse
-// over the turned place (most cells hold no structure), each place cell adding whole vectors
-// of a row of the padded query.
-std::vector<double> correlate(const PaddedQuery& query, const Grid& turned, const Window& w) {
-  const int n = query.n, m = query.m, wx = w.width(), wz = w.height();
-  const int blocks = (wx + kLanes - 1) / kLanes;
-  std::vector<double> out(std::size_t(wx) * std::size_t(wz), 0.0);
-  const double norms = turned.norm * query.norm;
-  if (!(norms > 0)) return out;
-  std::vector<Lanes> sums(std::size_t(wz) * blocks, Lanes{});
-  for (int r = 0; r < n; ++r) {
-    for (int c = 0; c < n; ++c) {
-      const float v = turned.cells[std::size_t(r) * n + c];
-      if (v == 0.f) continue;
-      const Lanes vs = Lanes{} + v;
-      for (int dz = 0; dz < wz; ++dz) {  // query row r + z0 + dz, columns from c + x0
-        const float* row = query.cells.data() + std::size_t(r + w.z0 + dz + m) * query.stride +
-                           std::size_t(c + w.x0 + m);
-        Lanes* o = sums.data() + std::size_t(dz) * blocks;
-        for (int b = 0; b < blocks; ++b) o[b] += vs * simd::load<Lanes>(row + b * kLanes);
-      }
-    }
+// Sums over the place's non-zero cells k of values[k] times the Floats query values from
+// first + offsets[k] (Floats = 8 or 16): one window row of shifts, the sums in registers.
+template <int W, int Floats>
+LOOPSCAN_INLINE void row_sums_impl(const float* first, const std::ptrdiff_t* offsets,
+                                   const float* values, std::size_t count, float* out) {
+  using V = typename simd::Vec<float, W>::type;
+  constexpr int L = simd::Vec<float, W>::kLanes, NV = Floats / L;
+  V sums[NV] = {};
+  for (std::size_t k = 0; k < count; ++k) {
+    const float* p = first + offsets[k];
+    for (int j = 0; j < NV; ++j) sums[j] += values[k] * simd::load<V>(p + j * L);
   }
-  for (int dz = 0; dz < wz; ++dz) {
-    for (int dx = 0; dx < wx; ++dx) {
-      out[std::size_t(dz) * wx + dx] = sums[std::size_t(dz) * blocks + dx / kLanes][dx % kLanes] / norms;
-    }
-  }
-  return out;
+  for (int j = 0; j < NV; ++j) simd::store(out + j * L, sums[j]);
 }
+
+using RowSums = void (*)(const float*, const std::ptrdiff_t*, const float*, std::size_t, float*);
+template <int Floats>
+void row_sums_base(const float* f, const std::ptrdiff_t* o, const float* v, std::size_t n, float* out) {
+  row_sums_impl<16, Floats>(f, o, v, n, out);
+}
+#if LOOPSCAN_HAVE_AVX2_CLONES
+template <int Floats>
+LOOPSCAN_AVX2 void row_sums_avx2(const float* f, const std::ptrdiff_t* o, const float* v,
+                                 std::size_t n, float* out) {
+  row_sums_impl<32, Floats>(f, o, v, n, out);
+}
+#endif
+// The kernel for Floats sums (a window row's one or two blocks of lanes). A window is at most
+// a few blocks wide, so AVX-512 would add nothing over AVX2.
+template <int Floats>
+RowSums row_sums() {
+#if LOOPSCAN_HAVE_AVX2_CLONES
+  static const RowSums kernel = simd::has_avx2() ? row_sums_avx2<Floats> : row_sums_base<Floats>;
+#else
+  static const RowSums kernel = row_sums_base<Floats>;
+#endif
+  return kernel;
+}
+
+// A turned place against one padded query: its non-zero cells as offsets into the query, and
+// the normalised correlation of every shift within [-m, m]^2 once computed (NaN before), so
+// that overlapping windows (a climb's moves, peaks that meet) compute each shift once. A shift's
+// value does not depend on the window that computed it: its sum runs over the same cells in
+// the same order.
+class Correlation {
+ public:
+  Correlation(const PaddedQuery& query, TurnedPlace turned)
+      : query_(query), norms_(turned.norm * query.norm), side_(2 * query.m + 1),
+        values_(std::move(turned.values)),
+        table_(std::size_t(side_) * side_, std::numeric_limits<double>::quiet_NaN()) {
+    offsets_.reserve(turned.cells.size());
+    for (int cell : turned.cells) {
+      offsets_.push_back(std::ptrdiff_t(cell / query.n) * query.stride + cell % query.n);
+    }
+  }
+
+  // The window's correlations, row-major from (x0, z0).
+  std::vector<double> window(const Window& w) {
+    const int m = query_.m, wx = w.width(), wz = w.height();
+    std::vector<double> out(std::size_t(wx) * std::size_t(wz), 0.0);
+    if (!(norms_ > 0)) return out;
+    alignas(64) float sums[2 * kLanes];
+    for (int dz = 0; dz < wz; ++dz) {
+      double* row = table_.data() + std::size_t(w.z0 + dz + m) * side_ + std::size_t(m);
+      // Query rows from z0 + dz, columns from x, whole blocks of lanes at a time.
+      for (int x = w.x0; x <= w.x1;) {
+        if (!std::isnan(row[x])) {
+          ++x;
+          continue;
+        }
+        const int wide = w.x1 - x + 1 > kLanes ? 2 * kLanes : kLanes;
+        const int count = std::min(wide, m - x + 1);
+        const float* first = query_.cells.data() + std::size_t(w.z0 + dz + m) * query_.stride +
+                             std::size_t(x + m);
+        (wide > kLanes ? row_sums<2 * kLanes>() : row_sums<kLanes>())(
+            first, offsets_.data(), values_.data(), offsets_.size(), sums);
+        for (int l = 0; l < count; ++l) row[x + l] = sums[l] / norms_;
+        x += count;
+      }
+      for (int dx = 0; dx < wx; ++dx) out[std::size_t(dz) * wx + dx] = row[w.x0 + dx];
+    }
+    return out;
+  }
+
+ private:
+  const PaddedQuery& query_;
+  double norms_;
+  int side_;
+  std::vector<std::ptrdiff_t> offsets_;  // of the place's non-zero cells in the padded query
+  std::vector<float> values_;
+  std::vector<double> table_;  // shift (x, z) at (z + m) * side + x + m
+};
 
 // A peak of a correlation window: the best whole-cell shift, and that shift refined to a
 // fraction of a cell where both neighbours along an axis lie in the window.
@@ -252,12 +324,15 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_ya
     }
   }
   const BorderedImage bordered(merged_image(place, 1));
-  std::vector<std::optional<Grid>> turned(yaws.size());  // full resolution, when searched
+  // Full resolution, each yaw's turned place once it is searched.
+  std::vector<std::optional<Correlation>> correlations(yaws.size());
   BirdsEyePose best;
   best.score = -1;
   auto search_window = [&](int y, const Window& window) {
-    if (!turned[y]) turned[y] = turned_image(bordered, yaws[y], config.cell_m, config.range_m);
-    return peak_of(correlate(q.full, *turned[y], window), window);
+    if (!correlations[y]) {
+      correlations[y].emplace(q.full, turned_image(bordered, yaws[y], config.cell_m, config.range_m));
+    }
+    return peak_of(correlations[y]->window(window), window);
   };
   auto keep_if_better = [&](int y, const Peak& peak) {
     if (peak.score > best.score) {
@@ -272,8 +347,8 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_ya
     const BorderedImage coarse_place(merged_image(place, f));
     std::vector<CoarsePeak> peaks;
     for (int y = 0; y < int(yaws.size()); ++y) {
-      const Grid t = turned_image(coarse_place, yaws[y], f * config.cell_m, config.range_m);
-      local_maxima(correlate(q.coarse, t, {-mc, mc, -mc, mc}), mc, y, peaks);
+      Correlation coarse(q.coarse, turned_image(coarse_place, yaws[y], f * config.cell_m, config.range_m));
+      local_maxima(coarse.window({-mc, mc, -mc, mc}), mc, y, peaks);
     }
     const std::size_t keep = std::min(peaks.size(), std::size_t(q.search.refined_peaks));
     std::partial_sort(peaks.begin(), peaks.begin() + std::ptrdiff_t(keep), peaks.end(),
@@ -312,10 +387,10 @@ std::vector<double> birds_eye_correlation(const BirdsEyePlace& query, const Bird
   check_image(query, config);
   check_image(place, config);
   const Window all{-max_cells, max_cells, -max_cells, max_cells};
-  return correlate(PaddedQuery(merged_image(query, 1), max_cells),
-                   turned_image(BorderedImage(merged_image(place, 1)), yaw_rad, config.cell_m,
-                                config.range_m),
-                   all);
+  const PaddedQuery padded(merged_image(query, 1), max_cells);
+  return Correlation(padded, turned_image(BorderedImage(merged_image(place, 1)), yaw_rad,
+                                          config.cell_m, config.range_m))
+      .window(all);
 }
 
 }  // namespace loopscan

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -68,16 +69,14 @@ const ShiftTables& shift_tables(int angles) {
 
 constexpr int kMaxAngles = 720;
 
-// The correlation of two key spectra at every shift (out[s], s < A): the cross spectrum summed
-// over rings, then its inverse transform. W: the vector width in bytes.
+// The cross spectrum of two keys summed over rings, X_k = sum_r Q_rk conj(D_rk), as real and
+// imaginary parts of stride floats. W: the vector width in bytes.
 template <int W>
-LOOPSCAN_INLINE void shift_correlations_impl(const BirdsEyeKeySpectrumView& q,
-                                             const BirdsEyeKeySpectrumView& d,
-                                             const ShiftTables& t, float* out) {
+LOOPSCAN_INLINE void cross_spectrum_impl(const BirdsEyeKeySpectrumView& q,
+                                         const BirdsEyeKeySpectrumView& d, float* xr, float* xi) {
   using V = typename simd::Vec<float, W>::type;
   constexpr int L = simd::Vec<float, W>::kLanes;
   const int stride = q.stride, blocks = stride / L;
-  alignas(64) float xr[kMaxAngles / 2 + kLanes], xi[kMaxAngles / 2 + kLanes];
   for (int b = 0; b < blocks; ++b) {
     V ar{}, ai{};
     for (int r = 0; r < q.rings; ++r) {
@@ -90,6 +89,14 @@ LOOPSCAN_INLINE void shift_correlations_impl(const BirdsEyeKeySpectrumView& q,
     simd::store(xr + b * L, ar);
     simd::store(xi + b * L, ai);
   }
+}
+
+// The inverse transform of a cross spectrum: the correlation at every shift (out[s], s < A).
+template <int W>
+LOOPSCAN_INLINE void shift_correlations_impl(const float* xr, const float* xi,
+                                             const ShiftTables& t, float* out) {
+  using V = typename simd::Vec<float, W>::type;
+  constexpr int L = simd::Vec<float, W>::kLanes;
   const int sblocks = t.padded / L;
   alignas(64) float even[kMaxAngles + kLanes], odd[kMaxAngles + kLanes];
   const bool fold = t.half != t.angles;
@@ -113,32 +120,60 @@ LOOPSCAN_INLINE void shift_correlations_impl(const BirdsEyeKeySpectrumView& q,
   }
 }
 
-void shift_correlations_base(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
-                             const ShiftTables& t, float* out) {
-  shift_correlations_impl<16>(q, d, t, out);
+// Every shift's correlation when `out` is given; else only the cross spectrum's bound on it,
+// sum_k w_k |X_k| (w_k as in the tables): no shift's correlation can exceed it.
+template <int W>
+LOOPSCAN_INLINE float key_correlations_impl(const BirdsEyeKeySpectrumView& q,
+                                            const BirdsEyeKeySpectrumView& d,
+                                            const ShiftTables& t, float* out) {
+  alignas(64) float xr[kMaxAngles / 2 + kLanes], xi[kMaxAngles / 2 + kLanes];
+  cross_spectrum_impl<W>(q, d, xr, xi);
+  if (out) {
+    shift_correlations_impl<W>(xr, xi, t, out);
+    return 0;
+  }
+  float bound = 0;
+  for (int k = 0; k < t.terms; ++k) {
+    const float w = (k == 0 || 2 * k == t.angles) ? 1.f : 2.f;
+    bound += w * std::sqrt(xr[k] * xr[k] + xi[k] * xi[k]);
+  }
+  return bound;
+}
+
+float key_correlations_base(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
+                            const ShiftTables& t, float* out) {
+  return key_correlations_impl<16>(q, d, t, out);
 }
 #if LOOPSCAN_HAVE_AVX2_CLONES
-LOOPSCAN_AVX2 void shift_correlations_avx2(const BirdsEyeKeySpectrumView& q,
-                                           const BirdsEyeKeySpectrumView& d,
-                                           const ShiftTables& t, float* out) {
-  shift_correlations_impl<32>(q, d, t, out);
+LOOPSCAN_AVX2 float key_correlations_avx2(const BirdsEyeKeySpectrumView& q,
+                                          const BirdsEyeKeySpectrumView& d,
+                                          const ShiftTables& t, float* out) {
+  return key_correlations_impl<32>(q, d, t, out);
 }
-LOOPSCAN_AVX512 void shift_correlations_avx512(const BirdsEyeKeySpectrumView& q,
-                                               const BirdsEyeKeySpectrumView& d,
-                                               const ShiftTables& t, float* out) {
-  shift_correlations_impl<64>(q, d, t, out);
+LOOPSCAN_AVX512 float key_correlations_avx512(const BirdsEyeKeySpectrumView& q,
+                                              const BirdsEyeKeySpectrumView& d,
+                                              const ShiftTables& t, float* out) {
+  return key_correlations_impl<64>(q, d, t, out);
 }
 #endif
 
-void shift_correlations(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
-                        const ShiftTables& t, float* out) {
+float key_correlations(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
+                       const ShiftTables& t, float* out) {
 #if LOOPSCAN_HAVE_AVX2_CLONES
   static const auto kernel =
-      simd::widest(shift_correlations_avx512, shift_correlations_avx2, shift_correlations_base);
+      simd::widest(key_correlations_avx512, key_correlations_avx2, key_correlations_base);
 #else
-  static const auto kernel = shift_correlations_base;
+  static const auto kernel = key_correlations_base;
 #endif
-  kernel(q, d, t, out);
+  return kernel(q, d, t, out);
+}
+
+void check_spectra(const BirdsEyeKeySpectrumView& query, const BirdsEyeKeySpectrumView& place) {
+  if (query.rings != place.rings || query.angles != place.angles || query.angles < 2 ||
+      query.angles > kMaxAngles || query.stride != key_spectrum_stride(query.angles) ||
+      place.stride != query.stride) {
+    throw std::invalid_argument("birds_eye: key spectra of the same rings and angles expected");
+  }
 }
 
 }  // namespace
@@ -206,20 +241,54 @@ BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
 
 BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
                                    const BirdsEyeKeySpectrumView& place) {
-  if (query.rings != place.rings || query.angles != place.angles || query.angles < 2 ||
-      query.angles > kMaxAngles || query.stride != key_spectrum_stride(query.angles) ||
-      place.stride != query.stride) {
-    throw std::invalid_argument("birds_eye: key spectra of the same rings and angles expected");
-  }
+  check_spectra(query, place);
   BirdsEyeKeyMatch best;
   const double norms = query.norm * place.norm;
   if (!(norms > 0)) return best;
   const int A = query.angles;
   alignas(64) float corr[kMaxAngles];
-  shift_correlations(query, place, shift_tables(A), corr);
+  key_correlations(query, place, shift_tables(A), corr);
   const int top = int(std::max_element(corr, corr + A) - corr);  // the first of ties
   best.distance = 1.0 - corr[top] / (A * norms);
   best.yaw_rad = top * M_PI / A;
+  return best;
+}
+
+std::vector<std::pair<double, std::size_t>> nearest_keys(
+    const BirdsEyeKeySpectrumView& query, std::size_t places,
+    const std::function<bool(std::size_t)>& eligible,
+    const std::function<BirdsEyeKeySpectrumView(std::size_t)>& spectrum, std::size_t count) {
+  std::vector<std::pair<double, std::size_t>> bounds;  // (lower bound on the distance, place)
+  if (count == 0) return bounds;
+  const ShiftTables& t = shift_tables(query.angles);
+  for (std::size_t i = 0; i < places; ++i) {
+    if (!eligible(i)) continue;
+    const BirdsEyeKeySpectrumView d = spectrum(i);
+    check_spectra(query, d);
+    const double norms = query.norm * d.norm;
+    // Float sums may round a shift's correlation a little above the bound: widen it.
+    const double bound = norms > 0 ? 1.0 - 1.0001 * key_correlations(query, d, t, nullptr) /
+                                               (query.angles * norms)
+                                   : 1.0;
+    bounds.emplace_back(bound, i);
+  }
+  std::sort(bounds.begin(), bounds.end());
+  // Places in order of their bound, exactly matched until no bound can beat the count-th best
+  // distance: what matching every place and sorting (distance, place) gives.
+  std::vector<std::pair<double, std::size_t>> best;  // a max-heap of the count best
+  for (const auto& [bound, i] : bounds) {
+    if (best.size() == count && bound > best.front().first) break;
+    const std::pair<double, std::size_t> found{match_key_spectra(query, spectrum(i)).distance, i};
+    if (best.size() < count) {
+      best.push_back(found);
+      std::push_heap(best.begin(), best.end());
+    } else if (found < best.front()) {
+      std::pop_heap(best.begin(), best.end());
+      best.back() = found;
+      std::push_heap(best.begin(), best.end());
+    }
+  }
+  std::sort_heap(best.begin(), best.end());
   return best;
 }
 

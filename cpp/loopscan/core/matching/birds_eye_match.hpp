@@ -2,7 +2,11 @@
 // Comparing two bird's-eye places (birds_eye_place.hpp): the keys by one circular correlation
 // over their angles (a distance and the yaw modulo pi), then the images by a correlation over
 // shifts at that yaw and the yaw plus pi, for the place's metric pose in the query's frame.
+#include <cstddef>
+#include <functional>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "loopscan/core/descriptors/birds_eye_place.hpp"
 
@@ -44,6 +48,14 @@ inline BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrum& query,
                                           const BirdsEyeKeySpectrum& place) {
   return match_key_spectra(view(query), view(place));
 }
+// The `count` eligible places of [0, places) nearest to the query by key, as (distance, place)
+// in ascending order: what match_key_spectra on every eligible place and sorting the pairs give,
+// but a place whose bound on its best shift's correlation (from its cross spectrum, without the
+// inverse transform) cannot beat the count-th best so far is never matched in full.
+std::vector<std::pair<double, std::size_t>> nearest_keys(
+    const BirdsEyeKeySpectrumView& query, std::size_t places,
+    const std::function<bool(std::size_t)>& eligible,
+    const std::function<BirdsEyeKeySpectrumView(std::size_t)>& spectrum, std::size_t count);
 
 // The place in the query's camera frame on the ground plane: a place point (x, z) lies at
 // R(yaw) (x, z) + (x_m, z_m) in the query, R turning x towards z; yaw is about the camera's up
