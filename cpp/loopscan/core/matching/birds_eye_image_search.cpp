@@ -93,6 +93,9 @@ TurnedPlace turned_image(const BorderedImage& place, double yaw, double cell_m, 
   const int n = place.n;
   TurnedPlace out;
   out.side = n;
+  out.cells.resize(std::size_t(n) * std::size_t(n));
+  out.values.resize(std::size_t(n) * std::size_t(n));
+  std::size_t kept = 0;  // written without a branch: whether a cell is empty is unpredictable
   const double c = std::cos(yaw), s = std::sin(yaw), offset = range_m / cell_m - 0.5;
   double sq = 0;
   for (int r = 0; r < n; ++r) {
@@ -109,12 +112,14 @@ TurnedPlace turned_image(const BorderedImage& place, double yaw, double cell_m, 
       const float* p = place.cells.data() + std::size_t(ri) * place.side + ci;
       const float* q = p + place.side;
       const float v = (1 - wr) * ((1 - wc) * p[0] + wc * p[1]) + wr * ((1 - wc) * q[0] + wc * q[1]);
-      if (v == 0.f) continue;
-      out.cells.push_back(r * n + col);
-      out.values.push_back(v);
+      out.cells[kept] = r * n + col;
+      out.values[kept] = v;
+      kept += v != 0.f;
       sq += double(v) * v;
     }
   }
+  out.cells.resize(kept);
+  out.values.resize(kept);
   out.norm = std::sqrt(sq);
   return out;
 }
