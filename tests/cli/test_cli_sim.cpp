@@ -1,6 +1,8 @@
 // The `loopscan` CLI: simulate, the place database and render.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -233,6 +235,47 @@ TEST(Cli, DbQueryWithLaneVersionsRecognisesAReverseDrive) {
                 " --lanes " + sim + " --out " + (d / "bad").string())
                 .code,
             2);
+}
+
+// The demo's report draws a reverse revisit the bird's-eye place recognises at top-1, with the
+// pose its image search found; the drawn pose agrees with the truth its caption states.
+TEST(Cli, DemoDrawsAReverseRevisitOfTheBirdsEyePlace) {
+  const fs::path d = temp_dir("demo-reverse");
+  const CliResult r = run("demo --trajectory builtin:reverse --out " + (d / "demo").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string page = file_bytes(d / "demo/report/index.html");
+  const std::size_t at = page.find("recognises a reverse revisit: return, keyframe ");
+  ASSERT_NE(at, std::string::npos);
+  int query = 0, place = 0, right = 0, total = 0, top1 = 0, loops = 0;
+  double x = 0, z = 0, yaw = 0, tx = 0, tz = 0, tyaw = 0;
+  ASSERT_EQ(std::sscanf(page.c_str() + at,
+                        "recognises a reverse revisit: return, keyframe %d finds first drive, "
+                        "keyframe %d at top-1, and its image search puts it at x %lf m, z %lf m, "
+                        "yaw %lf degrees (truth %lf, %lf, %lf). %d of %d opposite-direction "
+                        "revisits of the summer drive are right at top-1 with this one "
+                        "descriptor a place; of the %d driven more than 150 degrees apart, the "
+                        "found pose is within 2 m and 10 degrees of the truth for %d",
+                        &query, &place, &x, &z, &yaw, &tx, &tz, &tyaw, &top1, &loops, &total,
+                        &right),
+            12)
+      << page.substr(at, 400);
+  EXPECT_GT(query, place);
+  EXPECT_LT(std::hypot(x - tx, z - tz), 2.0);
+  EXPECT_LT(std::abs(std::remainder(yaw - tyaw, 360.0)), 10.0);
+  EXPECT_GT(loops, 20);
+  EXPECT_GE(top1, 0.5 * loops) << top1 << " of " << loops;  // one descriptor a place
+  EXPECT_LE(total, top1);
+  EXPECT_GE(right, 1);
+  EXPECT_LE(right, total);
+  bool figure = false;
+  for (const auto& f : fs::directory_iterator(d / "demo/report/figures")) {
+    if (f.path().filename().string().find("bird-s-eye-place") == std::string::npos) continue;
+    const std::string svg = file_bytes(f.path());
+    figure = svg.find("the pose found") != std::string::npos &&
+             svg.find("true pose") != std::string::npos && svg.find("(the query)") != std::string::npos;
+  }
+  EXPECT_TRUE(figure);
+  fs::remove_all(d);
 }
 
 TEST(Cli, RenderWritesTheKittiOdometryLayout) {

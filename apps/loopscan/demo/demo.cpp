@@ -210,6 +210,9 @@ void run_demo(const DemoArgs& a) {
   steps.next("loop closing: the summer drive, then the winter drive in the summer map");
   const DemoClosing closing = close_demo_sessions(a.out, route, sessions, c);
   steps.next("report");
+  const std::vector<report::Figure> bev_revisit =
+      birds_eye_revisit_figures(route.trajectory, sessions[0].vo, c, a.threads);
+  results.opposite.insert(results.opposite.end(), bev_revisit.begin(), bev_revisit.end());
   std::printf("\n%-8s | %-26s | %-26s | %9s %9s %9s\n", "", "summer vs summer", "winter vs summer",
               "imitate", "describe", "query");
   std::printf("%-8s | %8s %8s %8s | %8s %8s %8s | %9s %9s %9s\n", "method", "AUC", "R@100P",

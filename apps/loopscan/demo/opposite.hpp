@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "loopscan/config/configuration.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/report/html_page.hpp"
 #include "loopscan/sim/trajectory.hpp"
@@ -29,5 +30,14 @@ std::pair<int, int> opposite_revisit(const sim::Trajectory& route, const std::ve
 // Figures of the pair: each scan in the world frame (ground truth), forward-only and two-sided.
 std::vector<report::Figure> opposite_figures(const sim::Trajectory& route, const sim::VoOutput& vo,
                                              std::pair<int, int> pair);
+
+// The reverse revisit as the bird's-eye place (one descriptor a place, `--method bev`)
+// recognises it: the first drive evaluated against itself as `evaluate` does, then, of the
+// opposite-direction revisits it ranks right at top-1, the one nearest the middle of the return:
+// both scans in the query's camera frame, the place's scan moved by the pose its image search
+// found and by the true pose. Empty when no opposite-direction revisit is right at top-1.
+std::vector<report::Figure> birds_eye_revisit_figures(const sim::Trajectory& route,
+                                                      const sim::VoOutput& vo,
+                                                      const Configuration& c, int threads);
 
 }  // namespace loopscan::cli
