@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -164,6 +165,52 @@ TEST(CliConfig, ConfigReachesTheStagesAndIsWrittenBesideEveryResult) {
     r = run("config --config " + (d / dir / "config.yaml").string());
     EXPECT_EQ(r.code, 0) << dir << r.output;
   }
+}
+
+// The bird's-eye place's layout and search from the file: describe writes places of that layout,
+// and evaluate and db match them in it without being told; sets of two layouts do not compare.
+TEST(CliConfig, BirdsEyeLayoutTravelsWithTheSignatures) {
+  const fs::path d = temp_dir("config_bev_" + std::to_string(getpid()));
+  write_sequence(d, 40);
+  write_gt(d / "gt.txt", 40);
+  const std::string small = config(d, "small",
+                                   "descriptors:\n  birds_eye:\n    cell: height\n    cell_m: 1.5\n"
+                                   "    range_m: 24\n    rings: 16\n    angles: 40\n"
+                                   "    search:\n      finalists: 2\n");
+  CliResult r = run(describe(d, "bev", small, d / "small"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run(describe(d, "bev", "", d / "default"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  // 32 x 32 cells + 16 x 40 key values a place, against 60 x 60 + 24 x 60.
+  const std::string first = read_lines(d / "small/signatures.txt").front();
+  EXPECT_EQ(std::count(first.begin(), first.end(), ' ') + 1, 32 * 32 + 16 * 40);
+  EXPECT_NE(file_bytes(d / "small/config.yaml").find("    cell: height"), std::string::npos);
+  // Evaluated in its own layout without --config; the finalists are a search setting, the
+  // default 10 without the file and its 2 with it.
+  const std::string gt = " --gt " + (d / "gt.txt").string();
+  r = run("evaluate --signatures " + (d / "small").string() + gt + " --out " + (d / "e").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run("evaluate --signatures " + (d / "small").string() + gt + small + " --out " +
+          (d / "e2").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(file_bytes(d / "e/config.yaml").find("    range_m: 24"), std::string::npos);
+  EXPECT_NE(file_bytes(d / "e/config.yaml").find("      finalists: 10"), std::string::npos);
+  EXPECT_NE(file_bytes(d / "e2/config.yaml").find("      finalists: 2"), std::string::npos);
+  // A map in its layout, queried with the same places.
+  r = run("db build --signatures " + (d / "small").string() + gt + " --out " +
+          (d / "m.db").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run("db query --db " + (d / "m.db").string() + " --signatures " + (d / "small").string() +
+          " --exact --k 1 --out " + (d / "q").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  // Places of two layouts do not compare: refused naming both.
+  r = run("evaluate --signatures " + (d / "small").string() + gt + " --against " +
+          (d / "default").string() + " --gt2 " + (d / "gt.txt").string() + " --out " +
+          (d / "bad").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("differ in cell_m, range_m, rings or angles"), std::string::npos)
+      << r.output;
+  fs::remove_all(d);
 }
 
 // Reference signatures are evaluated as the paper evaluated them without being told; a flag

@@ -153,9 +153,9 @@ class PatchedDatabase : public BadValues {
   std::string load_error(const std::string& path) {
     return error_of([&] { load_database(path); });
   }
-  // Header 58 bytes (version 4); a place: session, keyframe, pose flag, frame (9 f32), pose
+  // Header 83 bytes (version 5); a place: session, keyframe, pose flag, frame (9 f32), pose
   // (12 f64), payload.
-  static constexpr std::size_t kMode = 44, kFrameKind = 45, kPlace = 58, kFrame = kPlace + 9,
+  static constexpr std::size_t kMode = 44, kFrameKind = 45, kPlace = 83, kFrame = kPlace + 9,
                                kPose = kFrame + 36, kPayload = kPose + 96;
 };
 
@@ -175,6 +175,7 @@ TEST_F(PatchedDatabase, ValidChecksumButImpossibleValuesAreRejected) {
   EXPECT_TRUE(has(load_error(patched(kMode, std::uint8_t{2})), "mode 2"))
       << load_error(patched(kMode, std::uint8_t{2}));
   EXPECT_TRUE(has(load_error(patched(kFrameKind, std::uint8_t{4})), "frame kind 4"));
+  EXPECT_TRUE(has(load_error(patched(kFrameKind + 1, std::uint8_t{2})), "cell kind 2"));
   EXPECT_FALSE(load_database(patched(kMode, std::uint8_t{255})).config().mode.has_value());
 }
 

@@ -80,6 +80,7 @@ Described read_described(const std::string& path) {
     if (d.method && d.mode) {
       const Configuration c = load_configuration(config, *d.method, *d.mode);
       if (!c.image_baseline) d.frame = descriptor_frame(c.method, sequence_options(c).descriptors);
+      if (!c.image_baseline && c.method == Method::BirdsEye) d.birds_eye = c.descriptors.birds_eye;
     }
     return d;
   }
@@ -94,6 +95,7 @@ Described described_map(const std::string& path, const DatabaseConfig& map) {
   d.method = method_name(map.method);
   d.mode = map.mode;
   d.frame = map.frame;
+  if (map.method == Method::BirdsEye) d.birds_eye = map.birds_eye;
   return d;
 }
 
@@ -133,8 +135,26 @@ Configuration resolve_configuration(const ConfigFlags& flags,
   std::string mode_text = agreed("mode", modes);
   const Mode mode = mode_text.empty() ? Mode::Default : parse_mode(mode_text);
   described_frame(described);  // described sets in different frames do not compare
-  if (!flags.file.empty()) return load_configuration(flags.file, method, mode);
-  return Configuration::defaults(method, mode);
+  Configuration c = flags.file.empty() ? Configuration::defaults(method, mode)
+                                       : load_configuration(flags.file, method, mode);
+  // Bird's-eye places are matched in the layout they were described with.
+  const Described* layout = nullptr;
+  for (const Described& d : described) {
+    if (!d.birds_eye) continue;
+    const BirdsEyePlaceConfig& a = *d.birds_eye;
+    if (layout) {
+      const BirdsEyePlaceConfig& b = *layout->birds_eye;
+      if (a.cell_m != b.cell_m || a.range_m != b.range_m || a.rings != b.rings ||
+          a.angles != b.angles) {
+        throw std::invalid_argument("bird's-eye places of " + layout->source + " and " + d.source +
+                                    " differ in cell_m, range_m, rings or angles: they do not "
+                                    "compare");
+      }
+    }
+    layout = &d;
+  }
+  if (layout) c.descriptors.birds_eye = *layout->birds_eye;
+  return c;
 }
 
 void require_loop_closing(const Configuration& c, const ConfigFlags& flags) {

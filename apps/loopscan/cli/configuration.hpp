@@ -31,6 +31,7 @@ struct Described {
   std::optional<std::string> method;  // sc | m2dp | delight | bev | gist | bow
   std::optional<Mode> mode;
   std::optional<DescriptorFrame> frame;
+  std::optional<BirdsEyePlaceConfig> birds_eye;  // bev: the places' layout
 };
 
 // A `describe` output directory: its config.yaml (the configuration it was described with),

@@ -71,7 +71,8 @@ void run_build(const BuildArgs& a) {
   if (const std::optional<DescriptorFrame> frame = described_frame(described)) config.frame = frame;
   Database db(config);
   for (std::size_t s = 0; s < a.signatures.size(); ++s) {
-    io::SignatureSet set = io::load_signature_set(a.signatures[s], config.method);
+    io::SignatureSet set =
+        io::load_signature_set(a.signatures[s], config.method, "", config.columns);
     if (!a.gt.empty()) io::attach_positions(set, a.gt[s]);
     const int session = a.first_session + static_cast<int>(s);
     StepProgress progress("db build: session " + std::to_string(session), "places");
@@ -98,18 +99,20 @@ void run_build(const BuildArgs& a) {
 }
 
 void run_query(const QueryArgs& a) {
-  const Database db = io::load_database(a.db);
+  Database db = io::load_database(a.db);
   // The queries must be described as the map's places were (method, mode, frame).
   std::vector<Described> described = {described_map(a.db, db.config()),
                                       read_described(a.signatures)};
   for (const std::string& dir : a.lanes) described.push_back(read_described(dir));
   const Configuration c = resolve_configuration(a.config, described);
-  io::SignatureSet queries = io::load_signature_set(a.signatures, db.config().method);
+  if (db.config().method == Method::BirdsEye) db.set_birds_eye_search(c.birds_eye_search);
+  io::SignatureSet queries =
+      io::load_signature_set(a.signatures, db.config().method, "", db.config().columns);
   const bool with_gt = !a.gt.empty();
   if (with_gt) io::attach_positions(queries, a.gt);
   std::vector<io::SignatureSet> lanes;
   for (const std::string& dir : a.lanes) {
-    lanes.push_back(io::load_signature_set(dir, db.config().method));
+    lanes.push_back(io::load_signature_set(dir, db.config().method, "", db.config().columns));
     if (lanes.back().keyframe_ids != queries.keyframe_ids) {
       throw io::InputError(dir, 0,
                            "the keyframe ids of --signatures " + a.signatures +

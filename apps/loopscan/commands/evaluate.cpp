@@ -37,13 +37,14 @@ void run_evaluate(const EvaluateArgs& a) {
   const Method method = c.method;
   const Mode mode = c.mode;
   const Fusion fusion = c.evaluation.fusion;
-  io::SignatureSet queries = io::load_signature_set(a.signatures, method, a.ids);
+  io::SignatureSet queries =
+      io::load_signature_set(a.signatures, method, a.ids, signature_columns(c));
   io::attach_positions(queries, a.gt);
   const bool cross = !a.against.empty();
   io::SignatureSet db = queries;
   if (cross) {
     if (a.gt2.empty()) throw std::invalid_argument("--against needs --gt2");
-    db = io::load_signature_set(a.against, method);
+    db = io::load_signature_set(a.against, method, "", signature_columns(c));
     io::attach_positions(db, a.gt2);
   }
   if (queries.places.empty() || db.places.empty()) {

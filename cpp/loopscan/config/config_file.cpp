@@ -40,6 +40,12 @@ struct EnumNames<DescriptorFrame> {
   static std::string name(DescriptorFrame f) { return descriptor_frame_name(f); }
 };
 template <>
+struct EnumNames<BirdsEyeCell> {
+  static constexpr const char* kChoices = "density or height";
+  static BirdsEyeCell parse(const std::string& s) { return parse_birds_eye_cell(s); }
+  static std::string name(BirdsEyeCell c) { return birds_eye_cell_name(c); }
+};
+template <>
 struct EnumNames<Fusion> {
   static constexpr const char* kChoices = "adaptive, fused, structure or intensity";
   static Fusion parse(const std::string& s) { return parse_fusion(s); }

@@ -108,11 +108,18 @@ eval::PlaceEvaluationOptions place_evaluation_options(const Configuration& c, Me
   o.fusion = c.evaluation.fusion;
   o.structure_weight = c.evaluation.structure_weight;
   o.protocol = cross_session ? c.evaluation.cross_session : c.evaluation.same_session;
+  o.birds_eye = c.descriptors.birds_eye;
+  o.birds_eye_search = c.birds_eye_search;
   return o;
 }
 
 eval::PlaceEvaluationOptions place_evaluation_options(const Configuration& c, bool cross_session) {
   return place_evaluation_options(c, c.method, cross_session);
+}
+
+int signature_columns(const Configuration& c) {
+  return c.method == Method::BirdsEye ? birds_eye_signature_columns(c.descriptors.birds_eye)
+                                      : signature_columns(c.method);
 }
 
 DatabaseConfig database_config(const Configuration& c) {
@@ -123,6 +130,8 @@ DatabaseConfig database_config(const Configuration& c) {
   d.structure_weight = c.evaluation.structure_weight;
   d.scan_context = descriptors.scan_context;
   d.birds_eye = descriptors.birds_eye;
+  d.birds_eye_search = c.birds_eye_search;
+  if (c.method == Method::BirdsEye) d.columns = birds_eye_signature_columns(d.birds_eye);
   d.storage = c.database.storage;
   d.mode = c.mode;
   d.frame = descriptor_frame(c.method, descriptors);
@@ -191,6 +200,10 @@ void validate(const Configuration& c) {
   in_section("descriptors.scan_context", [&] { validate(s.descriptors.scan_context); });
   in_section("descriptors.m2dp", [&] { validate(s.descriptors.m2dp); });
   in_section("descriptors.delight", [&] { validate(s.descriptors.delight); });
+  in_section("descriptors.birds_eye", [&] {
+    validate(s.descriptors.birds_eye);
+    validate(c.birds_eye_search, s.descriptors.birds_eye);
+  });
   need(c.database.fusion != Fusion::Adaptive, "database.fusion",
        "fused, structure or intensity (adaptive fusion needs the whole difference matrix)");
   in_section("database", [&] { validate(database_config(c)); });

@@ -84,6 +84,9 @@ struct Configuration {
   ImitationConfig imitation;
   double reset_jump_m = 5.0;  // default mode without a reset list: detect_vo_resets' jump
   DescriptorConfig descriptors;
+  // How bird's-eye places are matched (evaluate's rows, db queries, the Recognizer, loop closing);
+  // in the file under descriptors.birds_eye.search.
+  BirdsEyeSearchConfig birds_eye_search;
   LidarScanOptions lidar;
   EvaluationSettings evaluation;
   DatabaseSettings database;
@@ -123,6 +126,8 @@ eval::PlaceEvaluationOptions place_evaluation_options(const Configuration& c, bo
 eval::PlaceEvaluationOptions place_evaluation_options(const Configuration& c, Method method,
                                                       bool cross_session);
 DatabaseConfig database_config(const Configuration& c);
+// The width of c.method's signatures as c describes them (bev: its layout's).
+int signature_columns(const Configuration& c);
 LaneQueryOptions lane_query_options(const Configuration& c);
 closure::LoopCloserConfig loop_closer_config(const Configuration& c);
 baselines::GistConfig gist_config(const Configuration& c);

@@ -85,6 +85,28 @@ void visit_descriptors(V& v, Configuration& c) {
           "radius of the inner half of the 16 regions (m)");
     v.key("frame", l.frame, "pca (the paper's) | gravity-pca | camera | centroid");
   });
+  v.section("birds_eye", "the bird's-eye place (bev; default mode): image, key and search", [&] {
+    BirdsEyePlaceConfig& b = d.birds_eye;
+    v.key("cell", b.cell,
+          "density (points seen in a cell; the better within a season) | height (of its highest "
+          "point; the better across seasons)");
+    v.key("cell_m", b.cell_m, closed(0.05, 10), "image cell (m)");
+    v.key("range_m", b.range_m, closed(1, 200), "the image spans [-range_m, range_m] in x and z");
+    v.key("rings", b.rings, closed(1, 256), "key radii");
+    v.key("angles", b.angles, closed(2, 720), "key angles over [0, pi): the key's yaw resolution");
+    v.section("search", "matching: key ranking, then an image search of the finalists", [&] {
+      BirdsEyeSearchConfig& f = c.birds_eye_search;
+      v.key("finalists", f.finalists, closed(1, 1000),
+            "places ranked by key whose images are searched (each ~200x a key match)");
+      v.key("max_shift_m", f.max_shift_m, closed(0, 400), "searched in x and z (m)");
+      v.key("yaw_steps", f.yaw_steps, closed(0, 360),
+            "extra yaws each side of the key's, one key angle apart");
+      v.key("coarse_cells", f.coarse_cells, closed(1, 16),
+            "shifts first searched on cells merged this many a side (1: every shift in full)");
+      v.key("refined_peaks", f.refined_peaks, closed(1, 100),
+            "coarse peaks searched again at full resolution");
+    });
+  });
 }
 
 template <typename V>

@@ -20,6 +20,9 @@ struct PlaceEvaluationOptions {
   Protocol protocol = same_session_protocol();
   bool reference_quirks = false;
   int threads = 1;  // queries split over threads; results identical
+  // Bird's-eye places: the layout the signatures were described with, and the image search.
+  BirdsEyePlaceConfig birds_eye;
+  BirdsEyeSearchConfig birds_eye_search;
   // (rows computed, rows to compute), from the calling thread; adaptive fusion counts its two
   // passes over the queries.
   ProgressFn progress;

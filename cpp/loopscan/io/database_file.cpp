@@ -18,6 +18,8 @@ namespace {
 
 constexpr char kMagic[8] = {'L', 'O', 'O', 'P', 'S', 'C', 'D', 'B'};
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8 + 4 + 4 + 4 + 4 + 8;
+// Version 5: the bird's-eye layout (cell kind, cell_m, range_m, rings, angles).
+constexpr std::size_t kBirdsEyeLayoutBytes = 1 + 8 + 8 + 4 + 4;
 constexpr std::size_t kPlaceFixedBytes = 4 + 4 + 1 + 9 * 4;
 constexpr std::size_t kPoseBytes = 12 * 8;
 constexpr std::size_t kMaxCloudPoints = std::size_t(1) << 20;
@@ -27,7 +29,13 @@ constexpr std::uint8_t kUnknown = 255;  // mode or frame of a map saved before v
 std::string describe(const DatabaseConfig& c) {
   return method_name(c.method) + "/" + fusion_name(c.fusion) + " w_s " +
          std::to_string(c.structure_weight) + ", " + std::to_string(c.scan_context.rings) + "x" +
-         std::to_string(c.scan_context.sectors) + ", " + std::to_string(c.columns) + " columns";
+         std::to_string(c.scan_context.sectors) + ", " + std::to_string(c.columns) + " columns" +
+         (c.method == Method::BirdsEye
+              ? ", bird's-eye " + birds_eye_cell_name(c.birds_eye.cell) + " cells of " +
+                    std::to_string(c.birds_eye.cell_m) + " m to " +
+                    std::to_string(c.birds_eye.range_m) + " m, key " +
+                    std::to_string(c.birds_eye.rings) + "x" + std::to_string(c.birds_eye.angles)
+              : "");
 }
 
 bool same_parameters(const DatabaseConfig& a, const DatabaseConfig& b) {
@@ -37,7 +45,11 @@ bool same_parameters(const DatabaseConfig& a, const DatabaseConfig& b) {
   return a.method == b.method && a.fusion == b.fusion && a.structure_weight == b.structure_weight &&
          (!sc || (a.scan_context.rings == b.scan_context.rings &&
                   a.scan_context.sectors == b.scan_context.sectors)) &&
-         (sc || ca == cb);
+         (sc || ca == cb) &&
+         (a.method != Method::BirdsEye ||
+          (a.birds_eye.cell == b.birds_eye.cell && a.birds_eye.cell_m == b.birds_eye.cell_m &&
+           a.birds_eye.range_m == b.birds_eye.range_m && a.birds_eye.rings == b.birds_eye.rings &&
+           a.birds_eye.angles == b.birds_eye.angles));
 }
 
 // What a place record must hold beyond its bytes: ids >= 0, a rotation as the descriptor
@@ -130,6 +142,11 @@ void save_database(const Database& db, const std::string& path,
   w.put<std::uint32_t>(static_cast<std::uint32_t>(c.storage));
   w.put<std::uint8_t>(c.mode ? static_cast<std::uint8_t>(*c.mode) : kUnknown);
   w.put<std::uint8_t>(c.frame ? static_cast<std::uint8_t>(*c.frame) : kUnknown);
+  w.put<std::uint8_t>(static_cast<std::uint8_t>(c.birds_eye.cell));
+  w.put<double>(c.birds_eye.cell_m);
+  w.put<double>(c.birds_eye.range_m);
+  w.put<std::int32_t>(c.birds_eye.rings);
+  w.put<std::int32_t>(c.birds_eye.angles);
   w.put<std::uint32_t>(static_cast<std::uint32_t>(db.payload_floats()));
   w.put<std::uint64_t>(db.size());
   std::vector<float> payload(static_cast<std::size_t>(db.payload_floats()));
@@ -233,6 +250,15 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
       r.fail("descriptor frame kind " + std::to_string(frame) + ", expected 0..3 or 255");
     if (frame != kUnknown) c.frame = static_cast<DescriptorFrame>(frame);
   }
+  if (version >= 5) {  // earlier files hold the default layout
+    const auto cell = r.get<std::uint8_t>("the bird's-eye cell kind");
+    if (cell > 1) r.fail("bird's-eye cell kind " + std::to_string(cell) + ", expected 0 or 1");
+    c.birds_eye.cell = static_cast<BirdsEyeCell>(cell);
+    c.birds_eye.cell_m = r.get<double>("the bird's-eye cell size");
+    c.birds_eye.range_m = r.get<double>("the bird's-eye range");
+    c.birds_eye.rings = r.get<std::int32_t>("the bird's-eye key rings");
+    c.birds_eye.angles = r.get<std::int32_t>("the bird's-eye key angles");
+  }
   if (expected && !same_parameters(c, *expected)) {
     r.fail("built with " + describe(c) + ", expected " + describe(*expected));
   }
@@ -251,7 +277,8 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
   const auto count = r.get<std::uint64_t>("the place count");
   // The size must fit the count before anything is allocated for it.
   const std::uintmax_t record = kPlaceFixedBytes + std::uintmax_t(floats) * 4;
-  const std::size_t header = kHeaderBytes + (version >= 3 ? 4 : 0) + (version >= 4 ? 2 : 0);
+  const std::size_t header = kHeaderBytes + (version >= 3 ? 4 : 0) + (version >= 4 ? 2 : 0) +
+                             (version >= 5 ? kBirdsEyeLayoutBytes : 0);
   const std::uintmax_t body = file_size - header;
   if (file_size < header + 4 || count > (body - 4) / record) {
     r.fail("the file is too short for " + std::to_string(count) + " places (truncated?)");

@@ -19,9 +19,10 @@ struct SignatureSet {
 // `path` is a `describe` output directory (signatures.txt[.gz] + incoming_id_file.txt, and
 // frames.txt when present) or a signature file (then `ids_path`, or incoming_id_file.txt next
 // to it, gives the ids). Every file is checked against the others (rows per id, one frame per
-// id, each frame a rotation); errors are InputErrors naming the file.
+// id, each frame a rotation); errors are InputErrors naming the file. `columns`: the width of a
+// signature row (0: the method's default parameters').
 SignatureSet load_signature_set(const std::string& path, Method method,
-                                const std::string& ids_path = "");
+                                const std::string& ids_path = "", int columns = 0);
 
 // Ground-truth positions of keyframe ids from a KITTI pose / RobotCar GPS file (line = id);
 // `format`: kitti, robotcar or auto (io::detect_gt_format).

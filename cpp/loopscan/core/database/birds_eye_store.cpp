@@ -99,6 +99,11 @@ class BirdsEyeStore final : public PlaceStore {
     return pose(q, record);
   }
 
+  void set_birds_eye_search(const BirdsEyeSearchConfig& search) override {
+    validate(search, place_config_);
+    search_ = search;
+  }
+
   std::size_t index_bytes() const override { return 0; }
 
  private:

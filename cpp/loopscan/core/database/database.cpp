@@ -91,6 +91,11 @@ Database::Database(const DatabaseConfig& config)
     : config_(config), store_((validate(config), make_store(config))) {}
 Database::~Database() = default;
 Database::Database(Database&&) noexcept = default;
+
+void Database::set_birds_eye_search(const BirdsEyeSearchConfig& search) {
+  store_->set_birds_eye_search(search);
+  config_.birds_eye_search = search;
+}
 Database& Database::operator=(Database&&) noexcept = default;
 
 int Database::payload_floats() const { return store_->payload_floats(); }

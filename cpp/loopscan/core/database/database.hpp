@@ -138,6 +138,9 @@ class Database {
 
   std::size_t size() const { return places_.size(); }
   const DatabaseConfig& config() const { return config_; }
+  // Bird's-eye places: how later queries search their finalists' images (a query-time setting,
+  // not saved with the map). Throws std::invalid_argument on a search these places cannot run.
+  void set_birds_eye_search(const BirdsEyeSearchConfig& search);
   PlaceRef place(std::size_t i) const { return places_[i]; }
   std::optional<Pose3x4> pose(std::size_t i) const;
   const Eigen::Matrix3f& frame(std::size_t i) const { return frames_[i]; }

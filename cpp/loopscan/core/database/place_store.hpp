@@ -65,10 +65,12 @@ class PlaceStore {
     return std::nullopt;
   }
   virtual int sectors() const { return 0; }
-  // Bird's-eye places only: the place's metric pose in the query's frame (the image search).
+  // Bird's-eye places only: the place's metric pose in the query's frame (the image search),
+  // and how later queries search (set before querying; not while queries run).
   virtual std::optional<BirdsEyePose> ground_pose(const Query&, const float*) const {
     return std::nullopt;
   }
+  virtual void set_birds_eye_search(const BirdsEyeSearchConfig&) {}
   virtual std::size_t index_bytes() const = 0;
 
   // The scoring record of place i (what distances() and align() read).

@@ -65,6 +65,16 @@ class LogMagnitude {
 
 }  // namespace
 
+std::string birds_eye_cell_name(BirdsEyeCell cell) {
+  return cell == BirdsEyeCell::Height ? "height" : "density";
+}
+
+BirdsEyeCell parse_birds_eye_cell(const std::string& name) {
+  if (name == "density") return BirdsEyeCell::Density;
+  if (name == "height") return BirdsEyeCell::Height;
+  throw std::invalid_argument("bird's-eye cell '" + name + "': density or height expected");
+}
+
 void validate(const BirdsEyePlaceConfig& c) {
   require(std::isfinite(c.cell_m) && c.cell_m > 0, "cell_m must be positive");
   require(std::isfinite(c.range_m) && c.range_m >= c.cell_m, "range_m must be >= cell_m");

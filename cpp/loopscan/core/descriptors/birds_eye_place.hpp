@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "loopscan/core/signature.hpp"
@@ -20,6 +21,9 @@ namespace loopscan {
 // there; the better within one season), or the height of its highest point over min_height_m
 // (what stands there, whatever the density of the VO's points; the better across seasons).
 enum class BirdsEyeCell { Density, Height };
+// "density" | "height"; parse throws std::invalid_argument on anything else.
+std::string birds_eye_cell_name(BirdsEyeCell cell);
+BirdsEyeCell parse_birds_eye_cell(const std::string& name);
 
 struct BirdsEyePlaceConfig {
   BirdsEyeCell cell = BirdsEyeCell::Density;

@@ -303,17 +303,22 @@ struct BirdsEyeImageSearch::Prepared {
   PaddedQuery full, coarse;
 };
 
+void validate(const BirdsEyeSearchConfig& search, const BirdsEyePlaceConfig& config) {
+  if (!(search.max_shift_m >= 0 && search.max_shift_m <= 2 * config.range_m) ||
+      search.yaw_steps < 0 || search.coarse_cells < 1 || search.refined_peaks < 1 ||
+      search.finalists < 1) {
+    throw std::invalid_argument(
+        "birds_eye: 0 <= max_shift_m <= 2 range_m, yaw_steps >= 0, coarse_cells >= 1, "
+        "refined_peaks >= 1 and finalists >= 1 expected");
+  }
+}
+
 BirdsEyeImageSearch::BirdsEyeImageSearch(const BirdsEyePlace& query,
                                          const BirdsEyePlaceConfig& config,
                                          const BirdsEyeSearchConfig& search) {
   validate(config);
+  validate(search, config);
   check_image(query, config);
-  if (!(search.max_shift_m >= 0 && search.max_shift_m <= 2 * config.range_m) ||
-      search.yaw_steps < 0 || search.coarse_cells < 1 || search.refined_peaks < 1) {
-    throw std::invalid_argument(
-        "birds_eye: 0 <= max_shift_m <= 2 range_m, yaw_steps >= 0, coarse_cells >= 1 and "
-        "refined_peaks >= 1 expected");
-  }
   prepared_ = std::make_shared<const Prepared>(query, config, search);
 }
 

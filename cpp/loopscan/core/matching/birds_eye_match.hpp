@@ -78,6 +78,9 @@ struct BirdsEyeSearchConfig {
   int finalists = 10;
 };
 
+// Throws std::invalid_argument when a search cannot run on places of `config`.
+void validate(const BirdsEyeSearchConfig& search, const BirdsEyePlaceConfig& config);
+
 // The bird's-eye place distance: 1 - the image score at the place's best pose, in [0, 1].
 inline double birds_eye_distance(const BirdsEyePose& pose) { return 1.0 - pose.score; }
 

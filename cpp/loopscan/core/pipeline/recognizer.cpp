@@ -37,6 +37,7 @@ Recognizer::Recognizer(const RecognizerConfig& config)
 Recognizer::Recognizer(const RecognizerConfig& config, Database map)
     : config_(config), imitator_(config.imitation), db_(std::move(map)) {
   require_same_description(db_.config(), map_config(config), "Recognizer");
+  if (config.method == Method::BirdsEye) db_.set_birds_eye_search(config.database.birds_eye_search);
   if (config.lane_offset_m != 0 &&
       (config.method != Method::ScanContext ||
        config.descriptors.scan_context.frame != DescriptorFrame::Camera ||
