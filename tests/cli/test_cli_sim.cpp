@@ -248,16 +248,16 @@ TEST(Cli, DemoDrawsAReverseRevisitOfTheBirdsEyePlace) {
   ASSERT_NE(at, std::string::npos);
   int query = 0, place = 0, right = 0, total = 0, top1 = 0, loops = 0;
   double x = 0, z = 0, yaw = 0, tx = 0, tz = 0, tyaw = 0;
-  ASSERT_EQ(std::sscanf(page.c_str() + at,
-                        "recognises a reverse revisit: return, keyframe %d finds first drive, "
-                        "keyframe %d at top-1, and its image search puts it at x %lf m, z %lf m, "
-                        "yaw %lf degrees (truth %lf, %lf, %lf). %d of %d opposite-direction "
-                        "revisits of the summer drive are right at top-1 with this one "
-                        "descriptor a place; of the %d driven more than 150 degrees apart, the "
-                        "found pose is within 2 m and 10 degrees of the truth for %d",
-                        &query, &place, &x, &z, &yaw, &tx, &tz, &tyaw, &top1, &loops, &total,
-                        &right),
-            12)
+  ASSERT_EQ(
+      std::sscanf(page.c_str() + at,
+                  "recognises a reverse revisit: return, keyframe %d finds first drive, "
+                  "keyframe %d at top-1, and its image search puts it at x %lf m, z %lf m, "
+                  "yaw %lf degrees (truth %lf, %lf, %lf). %d of %d opposite-direction "
+                  "revisits of the summer drive are right at top-1 with this one "
+                  "descriptor a place; of the %d driven more than 150 degrees apart, the "
+                  "found pose is within 2 m and 10 degrees of the truth for %d",
+                  &query, &place, &x, &z, &yaw, &tx, &tz, &tyaw, &top1, &loops, &total, &right),
+      12)
       << page.substr(at, 400);
   EXPECT_GT(query, place);
   EXPECT_LT(std::hypot(x - tx, z - tz), 2.0);
@@ -272,7 +272,8 @@ TEST(Cli, DemoDrawsAReverseRevisitOfTheBirdsEyePlace) {
     if (f.path().filename().string().find("bird-s-eye-place") == std::string::npos) continue;
     const std::string svg = file_bytes(f.path());
     figure = svg.find("the pose found") != std::string::npos &&
-             svg.find("true pose") != std::string::npos && svg.find("(the query)") != std::string::npos;
+             svg.find("true pose") != std::string::npos &&
+             svg.find("(the query)") != std::string::npos;
   }
   EXPECT_TRUE(figure);
   fs::remove_all(d);

@@ -107,7 +107,6 @@ TEST(AdaptiveFusion, FusedRowIsTheMeanOfRowAndGlobalZScoresOracle) {
   }
 }
 
-
 // Rows of a drive: query q revisits place (q + n / 2) % m, whose distance dips by `dip` (its
 // neighbours by half as much), over unit Gaussian noise.
 std::vector<Eigen::RowVectorXd> revisit_rows(std::mt19937& rng, int n, int m, double dip) {

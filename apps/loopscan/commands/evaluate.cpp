@@ -76,13 +76,15 @@ void run_evaluate(const EvaluateArgs& a) {
   metrics["by_direction"] = direction_metrics(split);
   if (fusion == Fusion::Adaptive && distance_components(method) == 2) {
     const FusionWeights& w = ev.weights;
-    metrics["fusion_weights"] = {
-        {"structure", w.structure},          {"intensity", w.intensity},
-        {"agreement", w.agreement},          {"chance", w.chance},
-        {"reliability", w.reliability},      {"structure_peak", w.structure_peak},
-        {"intensity_peak", w.intensity_peak},
-        {"structure_sequence", w.structure_sequence},
-        {"intensity_sequence", w.intensity_sequence}};
+    metrics["fusion_weights"] = {{"structure", w.structure},
+                                 {"intensity", w.intensity},
+                                 {"agreement", w.agreement},
+                                 {"chance", w.chance},
+                                 {"reliability", w.reliability},
+                                 {"structure_peak", w.structure_peak},
+                                 {"intensity_peak", w.intensity_peak},
+                                 {"structure_sequence", w.structure_sequence},
+                                 {"intensity_sequence", w.intensity_sequence}};
   }
   const std::string title = method_name(method) + " (" + metrics["fusion"].get<std::string>() + ")";
   write_evaluation(a.out, queries.keyframe_ids, db.keyframe_ids, ev.pr, metrics, title);

@@ -84,7 +84,8 @@ std::string figure(const sim::Trajectory& route, const sim::VoOutput& vo, std::p
 }
 
 // A scan's points on the query camera's ground plane (x, z) after `to_query`.
-report::Series query_series(const Cloud& scan, const std::function<Eigen::Vector2d(const Eigen::Vector3d&)>& to_query,
+report::Series query_series(const Cloud& scan,
+                            const std::function<Eigen::Vector2d(const Eigen::Vector3d&)>& to_query,
                             const std::string& name, const std::string& color) {
   report::Series s{name, {}, {}, color};
   for (const PointI& q : scan) {
@@ -162,7 +163,8 @@ std::vector<report::Figure> birds_eye_revisit_figures(const sim::Trajectory& rou
   const std::vector<Eigen::Vector3d> heading = headings_of(route, ids);
   eval::PlaceEvaluationOptions eo = place_evaluation_options(c, Method::BirdsEye, false);
   eo.threads = threads;
-  const eval::PlaceEvaluation ev = eval::evaluate_places(sig.signatures, sig.signatures, pos, pos, eo);
+  const eval::PlaceEvaluation ev =
+      eval::evaluate_places(sig.signatures, sig.signatures, pos, pos, eo);
   const eval::DirectionSplit split =
       eval::split_by_direction(ev.pr, pos, pos, heading, heading, eo.protocol);
   const BirdsEyePlaceConfig& config = options.descriptors.birds_eye;
@@ -183,11 +185,14 @@ std::vector<report::Figure> birds_eye_revisit_figures(const sim::Trajectory& rou
     if (heading[q].dot(heading[p]) > std::cos(150.0 * M_PI / 180.0)) continue;
     const BirdsEyePlace query = birds_eye_place(sig.signatures[q], config);
     const BirdsEyePlace place = birds_eye_place(sig.signatures[p], config);
-    Revisit r{q, p, birds_eye_pose(query, place, match_keys(query, place, config.angles).yaw_rad,
-                                   config, {}),
-              route.T_world_cam[static_cast<std::size_t>(ids[q])].inverse() *
-                  route.T_world_cam[static_cast<std::size_t>(ids[p])],
-              0, false};
+    Revisit r{
+        q,
+        p,
+        birds_eye_pose(query, place, match_keys(query, place, config.angles).yaw_rad, config, {}),
+        route.T_world_cam[static_cast<std::size_t>(ids[q])].inverse() *
+            route.T_world_cam[static_cast<std::size_t>(ids[p])],
+        0,
+        false};
     r.true_yaw = std::atan2(r.truth.linear()(2, 0), r.truth.linear()(0, 0));
     const double off = std::hypot(r.found.x_m - r.truth.translation().x(),
                                   r.found.z_m - r.truth.translation().z());
@@ -202,7 +207,8 @@ std::vector<report::Figure> birds_eye_revisit_figures(const sim::Trajectory& rou
   for (const Revisit& r : revisits) poses_right += r.pose_right;
   for (const Revisit& r : revisits) {
     if (poses_right > 0 && !r.pose_right) continue;
-    if (!chosen || std::abs(double(r.q) - middle) < std::abs(double(chosen->q) - middle)) chosen = &r;
+    if (!chosen || std::abs(double(r.q) - middle) < std::abs(double(chosen->q) - middle))
+      chosen = &r;
   }
   if (!chosen) return {};
   const std::size_t q = chosen->q, p = chosen->p;
@@ -238,13 +244,14 @@ std::vector<report::Figure> birds_eye_revisit_figures(const sim::Trajectory& rou
       "The bird's-eye place (--method bev) recognises a reverse revisit: " + qn + " finds " + pn +
       " at top-1, and its image search puts it at x " + metres(found.x_m) + " m, z " +
       metres(found.z_m) + " m, yaw " + degrees(found.yaw_rad) + " degrees (truth " +
-      metres(T.translation().x()) + ", " + metres(T.translation().z()) + ", " +
-      degrees(true_yaw) + "). " + std::to_string(opposite.top1_correct) + " of " +
-      std::to_string(opposite.n_loops) +
+      metres(T.translation().x()) + ", " + metres(T.translation().z()) + ", " + degrees(true_yaw) +
+      "). " + std::to_string(opposite.top1_correct) + " of " + std::to_string(opposite.n_loops) +
       " opposite-direction revisits of the summer drive are right at top-1 with this one "
-      "descriptor a place; of the " + std::to_string(revisits.size()) +
+      "descriptor a place; of the " +
+      std::to_string(revisits.size()) +
       " driven more than 150 degrees apart, the found pose is within 2 m and 10 degrees of the "
-      "truth for " + std::to_string(poses_right);
+      "truth for " +
+      std::to_string(poses_right);
   return {{caption, report::line_plot_svg(series, o)}};
 }
 

@@ -24,10 +24,9 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
                                 const std::vector<Eigen::Vector3d>& database_positions,
                                 const PlaceEvaluationOptions& options) {
   PlaceEvaluation out;
-  const auto matcher =
-      options.method == Method::BirdsEye
-          ? make_birds_eye_matcher(options.birds_eye, options.birds_eye_search)
-          : make_matcher(options.method, options.precision);
+  const auto matcher = options.method == Method::BirdsEye
+                           ? make_birds_eye_matcher(options.birds_eye, options.birds_eye_search)
+                           : make_matcher(options.method, options.precision);
   for (const Signature& place : database) matcher->add(place);
 
   const int threads = std::max(1, std::min<int>(options.threads, static_cast<int>(queries.size())));

@@ -12,8 +12,8 @@
 namespace loopscan::io {
 namespace fs = std::filesystem;
 
-SignatureSet load_signature_set(const std::string& path, Method method,
-                                const std::string& ids_path, int columns) {
+SignatureSet load_signature_set(const std::string& path, Method method, const std::string& ids_path,
+                                int columns) {
   std::string sig_file = path, id_file = ids_path;
   if (fs::is_directory(path)) {
     sig_file = path + "/signatures.txt";
@@ -24,7 +24,8 @@ SignatureSet load_signature_set(const std::string& path, Method method,
   }
   SignatureSet set;
   set.keyframe_ids = read_incoming_ids(id_file);
-  const Eigen::MatrixXd all = read_matrix_text(sig_file, columns > 0 ? columns : signature_columns(method));
+  const Eigen::MatrixXd all =
+      read_matrix_text(sig_file, columns > 0 ? columns : signature_columns(method));
   int rows = rows_per_place(method);
   const auto n = static_cast<Eigen::Index>(set.keyframe_ids.size());
   // Scan Context places may carry lateral versions: 1 + V rows each (ScanContextConfig).

@@ -301,7 +301,8 @@ TEST(BirdsEyeMatch, NearestKeysAreTheHeadOfTheSortedKeyDistances) {
     for (std::size_t count : {std::size_t(1), std::size_t(10), all.size() + 3}) {
       const auto nearest = nearest_keys(view(spectra[q]), spectra.size(), eligible, at, count);
       ASSERT_EQ(nearest.size(), std::min(count, all.size()));
-      for (std::size_t j = 0; j < nearest.size(); ++j) EXPECT_EQ(nearest[j], all[j]) << q << " " << j;
+      for (std::size_t j = 0; j < nearest.size(); ++j)
+        EXPECT_EQ(nearest[j], all[j]) << q << " " << j;
     }
   }
 }

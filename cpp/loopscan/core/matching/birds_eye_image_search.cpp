@@ -171,7 +171,8 @@ LOOPSCAN_INLINE void row_sums_impl(const float* first, const std::ptrdiff_t* off
 
 using RowSums = void (*)(const float*, const std::ptrdiff_t*, const float*, std::size_t, float*);
 template <int Floats>
-void row_sums_base(const float* f, const std::ptrdiff_t* o, const float* v, std::size_t n, float* out) {
+void row_sums_base(const float* f, const std::ptrdiff_t* o, const float* v, std::size_t n,
+                   float* out) {
   row_sums_impl<16, Floats>(f, o, v, n, out);
 }
 #if LOOPSCAN_HAVE_AVX2_CLONES
@@ -201,7 +202,9 @@ RowSums row_sums() {
 class Correlation {
  public:
   Correlation(const PaddedQuery& query, TurnedPlace turned)
-      : query_(query), norms_(turned.norm * query.norm), side_(2 * query.m + 1),
+      : query_(query),
+        norms_(turned.norm * query.norm),
+        side_(2 * query.m + 1),
         values_(std::move(turned.values)),
         table_(std::size_t(side_) * side_, std::numeric_limits<double>::quiet_NaN()) {
     offsets_.reserve(turned.cells.size());
@@ -226,8 +229,8 @@ class Correlation {
         }
         const int wide = w.x1 - x + 1 > kLanes ? 2 * kLanes : kLanes;
         const int count = std::min(wide, m - x + 1);
-        const float* first = query_.cells.data() + std::size_t(w.z0 + dz + m) * query_.stride +
-                             std::size_t(x + m);
+        const float* first =
+            query_.cells.data() + std::size_t(w.z0 + dz + m) * query_.stride + std::size_t(x + m);
         (wide > kLanes ? row_sums<2 * kLanes>() : row_sums<kLanes>())(
             first, offsets_.data(), values_.data(), offsets_.size(), sums);
         for (int l = 0; l < count; ++l) row[x + l] = sums[l] / norms_;
@@ -340,7 +343,8 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_ya
   best.score = -1;
   auto search_window = [&](int y, const Window& window) {
     if (!correlations[y]) {
-      correlations[y].emplace(q.full, turned_image(bordered, yaws[y], config.cell_m, config.range_m));
+      correlations[y].emplace(q.full,
+                              turned_image(bordered, yaws[y], config.cell_m, config.range_m));
     }
     return peak_of(correlations[y]->window(window), window);
   };
@@ -357,7 +361,8 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_ya
     const BorderedImage coarse_place(merged_image(place, f));
     std::vector<CoarsePeak> peaks;
     for (int y = 0; y < int(yaws.size()); ++y) {
-      Correlation coarse(q.coarse, turned_image(coarse_place, yaws[y], f * config.cell_m, config.range_m));
+      Correlation coarse(q.coarse,
+                         turned_image(coarse_place, yaws[y], f * config.cell_m, config.range_m));
       local_maxima(coarse.window({-mc, mc, -mc, mc}), mc, y, peaks);
     }
     const std::size_t keep = std::min(peaks.size(), std::size_t(q.search.refined_peaks));

@@ -93,8 +93,8 @@ LOOPSCAN_INLINE void cross_spectrum_impl(const BirdsEyeKeySpectrumView& q,
 
 // The inverse transform of a cross spectrum: the correlation at every shift (out[s], s < A).
 template <int W>
-LOOPSCAN_INLINE void shift_correlations_impl(const float* xr, const float* xi,
-                                             const ShiftTables& t, float* out) {
+LOOPSCAN_INLINE void shift_correlations_impl(const float* xr, const float* xi, const ShiftTables& t,
+                                             float* out) {
   using V = typename simd::Vec<float, W>::type;
   constexpr int L = simd::Vec<float, W>::kLanes;
   const int sblocks = t.padded / L;
@@ -124,8 +124,8 @@ LOOPSCAN_INLINE void shift_correlations_impl(const float* xr, const float* xi,
 // sum_k w_k |X_k| (w_k as in the tables): no shift's correlation can exceed it.
 template <int W>
 LOOPSCAN_INLINE float key_correlations_impl(const BirdsEyeKeySpectrumView& q,
-                                            const BirdsEyeKeySpectrumView& d,
-                                            const ShiftTables& t, float* out) {
+                                            const BirdsEyeKeySpectrumView& d, const ShiftTables& t,
+                                            float* out) {
   alignas(64) float xr[kMaxAngles / 2 + kLanes], xi[kMaxAngles / 2 + kLanes];
   cross_spectrum_impl<W>(q, d, xr, xi);
   if (out) {
@@ -146,8 +146,8 @@ float key_correlations_base(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeyS
 }
 #if LOOPSCAN_HAVE_AVX2_CLONES
 LOOPSCAN_AVX2 float key_correlations_avx2(const BirdsEyeKeySpectrumView& q,
-                                          const BirdsEyeKeySpectrumView& d,
-                                          const ShiftTables& t, float* out) {
+                                          const BirdsEyeKeySpectrumView& d, const ShiftTables& t,
+                                          float* out) {
   return key_correlations_impl<32>(q, d, t, out);
 }
 LOOPSCAN_AVX512 float key_correlations_avx512(const BirdsEyeKeySpectrumView& q,
@@ -267,9 +267,9 @@ std::vector<std::pair<double, std::size_t>> nearest_keys(
     check_spectra(query, d);
     const double norms = query.norm * d.norm;
     // Float sums may round a shift's correlation a little above the bound: widen it.
-    const double bound = norms > 0 ? 1.0 - 1.0001 * key_correlations(query, d, t, nullptr) /
-                                               (query.angles * norms)
-                                   : 1.0;
+    const double bound =
+        norms > 0 ? 1.0 - 1.0001 * key_correlations(query, d, t, nullptr) / (query.angles * norms)
+                  : 1.0;
     bounds.emplace_back(bound, i);
   }
   std::sort(bounds.begin(), bounds.end());
