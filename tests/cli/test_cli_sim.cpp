@@ -83,7 +83,7 @@ TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
             2);
   // Mistakes: an unknown frame; reference mode is the paper's forward-only scan in PCA.
   const std::string sc = "descriptors:\n  scan_context:\n";
-  for (const std::string bad :
+  for (const std::string& bad :
        {config(d, "b1", sc + "    frame: gravity\n"),
         " --mode reference" + config(d, "b2", "imitation:\n  lookahead_m: 10\n"),
         " --mode reference" + config(d, "b3", sc + "    frame: camera\n"),
