@@ -141,15 +141,10 @@ Configuration resolve_configuration(const ConfigFlags& flags,
   const Described* layout = nullptr;
   for (const Described& d : described) {
     if (!d.birds_eye) continue;
-    const BirdsEyePlaceConfig& a = *d.birds_eye;
-    if (layout) {
-      const BirdsEyePlaceConfig& b = *layout->birds_eye;
-      if (a.cell_m != b.cell_m || a.range_m != b.range_m || a.rings != b.rings ||
-          a.angles != b.angles) {
-        throw std::invalid_argument("bird's-eye places of " + layout->source + " and " + d.source +
-                                    " differ in cell_m, range_m, rings or angles: they do not "
-                                    "compare");
-      }
+    if (layout && !same_layout(*d.birds_eye, *layout->birds_eye)) {
+      throw std::invalid_argument("bird's-eye places of " + layout->source + " and " + d.source +
+                                  " differ in cell_m, range_m, rings or angles, or in the cell "
+                                  "kind: they do not compare");
     }
     layout = &d;
   }

@@ -46,10 +46,7 @@ bool same_parameters(const DatabaseConfig& a, const DatabaseConfig& b) {
          (!sc || (a.scan_context.rings == b.scan_context.rings &&
                   a.scan_context.sectors == b.scan_context.sectors)) &&
          (sc || ca == cb) &&
-         (a.method != Method::BirdsEye ||
-          (a.birds_eye.cell == b.birds_eye.cell && a.birds_eye.cell_m == b.birds_eye.cell_m &&
-           a.birds_eye.range_m == b.birds_eye.range_m && a.birds_eye.rings == b.birds_eye.rings &&
-           a.birds_eye.angles == b.birds_eye.angles));
+         (a.method != Method::BirdsEye || same_layout(a.birds_eye, b.birds_eye));
 }
 
 // What a place record must hold beyond its bytes: ids >= 0, a rotation as the descriptor

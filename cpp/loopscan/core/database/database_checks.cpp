@@ -42,14 +42,9 @@ void require_same_description(const DatabaseConfig& map, const DatabaseConfig& o
        "the map's places were described in the " +
            (map.frame ? descriptor_frame_name(*map.frame) : "") + " frame, this describes in the " +
            (own.frame ? descriptor_frame_name(*own.frame) : "") + " frame");
-  if (map.method == Method::BirdsEye) {
-    const BirdsEyePlaceConfig &a = map.birds_eye, &b = own.birds_eye;
-    need(a.cell == b.cell && a.cell_m == b.cell_m && a.range_m == b.range_m && a.rings == b.rings &&
-             a.angles == b.angles,
-         who,
-         "the map's bird's-eye places have another layout (cell kind, cell_m, range_m, rings, "
-         "angles) than this describes");
-  }
+  need(map.method != Method::BirdsEye || same_layout(map.birds_eye, own.birds_eye), who,
+       "the map's bird's-eye places have another layout (cell kind, cell_m, range_m, rings, "
+       "angles) than this describes");
 }
 
 void validate(const QueryOptions& o, int k) {

@@ -35,17 +35,15 @@ constexpr double kDropReliability = 0.1;
 
 // Consistency of consecutive queries' best places above the chance that two random queries'
 // best places are as close, (consistent - chance) / (1 - chance); NaN without enough pairs.
-// `bests` holds (query, best place) sorted by query.
-double sequence_reliability(const std::vector<std::pair<int, int>>& bests) {
+// `queries` sorted, `places[k]` the best place of queries[k].
+double sequence_reliability(const std::vector<int>& queries, std::vector<int> places) {
   int pairs = 0, follow = 0;
-  for (std::size_t k = 1; k < bests.size(); ++k) {
-    if (bests[k].first != bests[k - 1].first + 1) continue;
+  for (std::size_t k = 1; k < queries.size(); ++k) {
+    if (queries[k] != queries[k - 1] + 1) continue;
     ++pairs;
-    follow += std::abs(bests[k].second - bests[k - 1].second) <= kFollowWindow;
+    follow += std::abs(places[k] - places[k - 1]) <= kFollowWindow;
   }
   if (pairs < kMinConsecutive) return std::numeric_limits<double>::quiet_NaN();
-  std::vector<int> places(bests.size());
-  for (std::size_t k = 0; k < bests.size(); ++k) places[k] = bests[k].second;
   std::sort(places.begin(), places.end());
   double close = 0;  // unordered pairs of queries whose best places are within the window
   for (std::size_t i = 0, j = 0; i < places.size(); ++i) {
@@ -120,13 +118,14 @@ FusionWeights FusionStatistics::weights(double structure_weight) const {
   std::vector<Best> by_query = bests_;
   std::sort(by_query.begin(), by_query.end(),
             [](const Best& a, const Best& b) { return a.query < b.query; });
-  std::vector<std::pair<int, int>> s(by_query.size()), i(by_query.size());
-  for (std::size_t k = 0; k < by_query.size(); ++k) {
-    s[k] = {by_query[k].query, by_query[k].structure};
-    i[k] = {by_query[k].query, by_query[k].intensity};
+  std::vector<int> queries, structure, intensity;
+  for (const Best& b : by_query) {
+    queries.push_back(b.query);
+    structure.push_back(b.structure);
+    intensity.push_back(b.intensity);
   }
-  w.structure_sequence = sequence_reliability(s);
-  w.intensity_sequence = sequence_reliability(i);
+  w.structure_sequence = sequence_reliability(queries, std::move(structure));
+  w.intensity_sequence = sequence_reliability(queries, std::move(intensity));
   // The more peaked half leads unless its best matches follow the drive markedly less than the
   // other half's: then it is the one without signal.
   bool intensity_leads = w.intensity_peak > w.structure_peak;
