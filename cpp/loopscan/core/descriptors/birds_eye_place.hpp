@@ -44,8 +44,8 @@ void validate(const BirdsEyePlaceConfig& config);
 // Whether places of the two configurations compare: the same cell kind, cell size, range and
 // key rings and angles (what a signature's meaning and width depend on).
 inline bool same_layout(const BirdsEyePlaceConfig& a, const BirdsEyePlaceConfig& b) {
-  return a.cell == b.cell && a.cell_m == b.cell_m && a.range_m == b.range_m &&
-         a.rings == b.rings && a.angles == b.angles;
+  return a.cell == b.cell && a.cell_m == b.cell_m && a.range_m == b.range_m && a.rings == b.rings &&
+         a.angles == b.angles;
 }
 inline int image_side(const BirdsEyePlaceConfig& config) {
   return std::max(1, static_cast<int>(std::lround(2.0 * config.range_m / config.cell_m)));
