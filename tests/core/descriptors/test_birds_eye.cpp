@@ -4,9 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <limits>
+#include <map>
+#include <numeric>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include "loopscan/core/database/database.hpp"
@@ -198,6 +202,107 @@ TEST(BirdsEyePlace, InvalidConfigurationsAreRefused) {
   cut = a;
   cut.image.pop_back();
   EXPECT_THROW(birds_eye_pose(a, cut, 0.0, c), std::invalid_argument);
+}
+
+// The place straight from its definition, in double precision: each cell's sqrt(count) or
+// height times its taper weight, scaled to 255 at the top cell; the key is log(1 + |DFT|) of
+// the image zero-padded to spectrum_size, by the sum over every cell, sampled bilinearly on
+// the polar grid, ring means removed and scaled to 127 at the largest magnitude.
+struct OraclePlace {
+  std::vector<double> image, key;
+};
+OraclePlace oracle_place(const Scan& s, const BirdsEyePlaceConfig& c) {
+  const int n = image_side(c), N = c.spectrum_size;
+  std::vector<double> image(std::size_t(n) * n, 0.0);
+  for (std::size_t i = 0; i < s.x.size(); ++i) {
+    const double height = -double(s.y[i]);
+    const double fc = (double(s.x[i]) + c.range_m) / c.cell_m;
+    const double fr = (double(s.z[i]) + c.range_m) / c.cell_m;
+    if (!(height > c.min_height_m) || fc < 0 || fc >= n || fr < 0 || fr >= n) continue;
+    double& v = image[std::size_t(fr) * n + std::size_t(fc)];
+    v = c.cell == BirdsEyeCell::Density ? v + 1 : std::max(v, height - c.min_height_m);
+  }
+  for (int r = 0; r < n; ++r) {
+    for (int col = 0; col < n; ++col) {
+      double& v = image[std::size_t(r) * n + col];
+      if (c.cell == BirdsEyeCell::Density) v = std::sqrt(v);
+      const double d =
+          std::hypot((col + 0.5) * c.cell_m - c.range_m, (r + 0.5) * c.cell_m - c.range_m);
+      const double w =
+          std::clamp((c.taper_end_m - d) / (c.taper_end_m - c.taper_start_m), 0.0, 1.0);
+      v *= std::pow(std::sin(w * M_PI / 2), 2);
+    }
+  }
+  const double top = *std::max_element(image.begin(), image.end());
+  OraclePlace o;
+  for (double v : image) o.image.push_back(255.0 * v / top);
+  auto log_magnitude = [&](int u, int v) {
+    std::complex<double> f = 0;
+    for (int r = 0; r < n; ++r) {
+      for (int col = 0; col < n; ++col) {
+        const double value = image[std::size_t(r) * n + col];
+        if (value != 0) f += value * std::polar(1.0, -2 * M_PI * double((u * r + v * col) % N) / N);
+      }
+    }
+    return std::log1p(std::abs(f));
+  };
+  std::map<std::pair<int, int>, double> bins;  // each bin once
+  auto bin = [&](int u, int v) {
+    const auto it = bins.find({u, v});
+    return it != bins.end() ? it->second : bins[{u, v}] = log_magnitude(u, v);
+  };
+  double peak = 0;
+  for (int ring = 0; ring < c.rings; ++ring) {
+    const double rho = c.min_frequency + ring * (c.max_frequency - c.min_frequency) / (c.rings - 1);
+    std::vector<double> values;
+    for (int a = 0; a < c.angles; ++a) {
+      const double u = rho * std::sin(a * M_PI / c.angles), v = rho * std::cos(a * M_PI / c.angles);
+      const int u0 = int(std::floor(u)), v0 = int(std::floor(v));
+      const double fu = u - u0, fv = v - v0;
+      values.push_back((1 - fu) * ((1 - fv) * bin(u0, v0) + fv * bin(u0, v0 + 1)) +
+                       fu * ((1 - fv) * bin(u0 + 1, v0) + fv * bin(u0 + 1, v0 + 1)));
+    }
+    const double mean = std::accumulate(values.begin(), values.end(), 0.0) / c.angles;
+    for (double v : values) {
+      o.key.push_back(v - mean);
+      peak = std::max(peak, std::abs(v - mean));
+    }
+  }
+  for (double& v : o.key) v *= 127.0 / peak;
+  return o;
+}
+
+// The describer's vector kernels and single-precision transform against the definition: every
+// image cell and key value within rounding of the oracle's (one step of the quantisation), on
+// places of both cell kinds and another cell size.
+TEST(BirdsEyePlace, DescriptionEqualsTheDefinitionWithinRounding) {
+  const auto world = street_world(5);
+  BirdsEyePlaceConfig coarse;
+  coarse.cell_m = 1.5;
+  coarse.range_m = 27;
+  coarse.spectrum_size = 64;
+  coarse.max_frequency = 20;
+  BirdsEyePlaceConfig height;
+  height.cell = BirdsEyeCell::Height;
+  for (const BirdsEyePlaceConfig& config : {BirdsEyePlaceConfig{}, height, coarse}) {
+    for (const auto& [cx, cz, psi] : {std::tuple{0.0, 0.0, 0.0}, std::tuple{2.5, -30.0, 2.2}}) {
+      const Scan s = scan_at(world, cx, cz, psi);
+      const BirdsEyePlace place = describe(s, config);
+      const OraclePlace expected = oracle_place(s, config);
+      ASSERT_EQ(place.image.size(), expected.image.size());
+      ASSERT_EQ(place.key.size(), expected.key.size());
+      int off_by_one = 0;
+      for (std::size_t i = 0; i < place.image.size(); ++i) {
+        ASSERT_LE(std::abs(place.image[i] - expected.image[i]), 0.5 + 1e-3) << "cell " << i;
+      }
+      for (std::size_t i = 0; i < place.key.size(); ++i) {
+        const double error = std::abs(place.key[i] - expected.key[i]);
+        ASSERT_LE(error, 1.0) << "key " << i;
+        off_by_one += error > 0.5 + 1e-3;
+      }
+      EXPECT_LE(off_by_one, int(place.key.size()) / 100);  // rounding, not a drift
+    }
+  }
 }
 
 // A turn of the place shifts its key: the key's yaw is the turn modulo pi, and a translation

@@ -77,9 +77,20 @@ class BirdsEyeDescriber {
   // The tapered cell values before quantisation.
   std::vector<float> image(const float* x, const float* y, const float* z, std::size_t n) const;
 
+  // A key value: bilinear in the log-magnitude grid between four bins.
+  struct KeySample {
+    int bin = 0;  // the grid index of the lower-left bin
+    float fu = 0, fv = 0;
+  };
+
   BirdsEyePlaceConfig config_;
   int side_ = 0;
   std::vector<float> weights_;  // per cell: 1 within taper_start_m, sin^2 down to 0 at taper_end_m
+  int band_ = 0;                // the key's samples reach frequencies up to band_ in u and |v|
+  int stride_ = 0;              // band_ + 1 frequencies padded to whole vectors
+  std::vector<float> row_table_;                // side x 2 stride: cos, then -sin (2 pi c v / N)
+  std::vector<float> column_cos_, column_sin_;  // (band + 1) x side: cos, sin (2 pi u r / N)
+  std::vector<KeySample> samples_;              // rings x angles
 };
 
 Signature birds_eye_signature(const BirdsEyePlace& place);
