@@ -5,7 +5,7 @@
 // (finalists); then with the cell kind whose keys separate better over the whole run. Same
 // session (10 m, mask 100), or a query session against a map session (25 m, no mask).
 //
-//   loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K]
+//   loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K]   (K: the library default)
 //
 // Each directory holds poses_history_file.txt, pts_history_file.txt[.gz] and gt.txt.
 #include <algorithm>
@@ -170,7 +170,7 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
 
 int main(int argc, char** argv) {
   std::vector<std::string> dirs;
-  int finalists = 10;
+  int finalists = BirdsEyeSearchConfig{}.finalists;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--finalists" && i + 1 < argc) {

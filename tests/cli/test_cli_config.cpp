@@ -194,7 +194,7 @@ TEST(CliConfig, BirdsEyeLayoutTravelsWithTheSignatures) {
           (d / "e2").string());
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(file_bytes(d / "e/config.yaml").find("    range_m: 24"), std::string::npos);
-  EXPECT_NE(file_bytes(d / "e/config.yaml").find("      finalists: 10"), std::string::npos);
+  EXPECT_NE(file_bytes(d / "e/config.yaml").find("      finalists: 5"), std::string::npos);
   EXPECT_NE(file_bytes(d / "e2/config.yaml").find("      finalists: 2"), std::string::npos);
   // A map in its layout, queried with the same places.
   r = run("db build --signatures " + (d / "small").string() + gt + " --out " +

@@ -6,6 +6,8 @@
 #include "loopscan/core/peak_vertex.hpp"
 #include "loopscan/core/simd.hpp"
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -35,26 +37,31 @@ struct Grid {
 };
 
 // The place image with f x f cells merged (summed; the last block of a row or column may be
-// cut short): the image itself for f = 1.
+// cut short): the image itself for f = 1. Sums and the norm in integers: exact, and without a
+// chain of floating-point additions.
 Grid merged_image(const BirdsEyePlace& place, int f) {
   const int n = place.side;
   Grid out;
   out.side = (n + f - 1) / f;
+  std::int64_t sq = 0;
   if (f == 1) {
     out.cells.assign(place.image.begin(), place.image.end());
-  } else {
-    out.cells.assign(std::size_t(out.side) * out.side, 0.f);
+    for (std::uint8_t v : place.image) sq += int(v) * int(v);
+    out.norm = std::sqrt(double(sq));
+    return out;
   }
-  for (int r = 0; r < n && f > 1; ++r) {
+  std::vector<int> sums(std::size_t(out.side) * out.side, 0);
+  for (int r = 0; r < n; ++r) {
     const std::uint8_t* in = place.image.data() + std::size_t(r) * n;
-    float* o = out.cells.data() + std::size_t(r / f) * out.side;
-    for (int c0 = 0, block = 0; c0 < n; c0 += f, ++block) {
-      for (int c = c0; c < std::min(n, c0 + f); ++c) o[block] += float(in[c]);
-    }
+    int* o = sums.data() + std::size_t(r / f) * out.side;
+    for (int c = 0; c < n; ++c) o[c / f] += in[c];
   }
-  double sq = 0;
-  for (float v : out.cells) sq += double(v) * v;
-  out.norm = std::sqrt(sq);
+  out.cells.resize(sums.size());
+  for (std::size_t i = 0; i < sums.size(); ++i) {
+    out.cells[i] = float(sums[i]);
+    sq += std::int64_t(sums[i]) * sums[i];
+  }
+  out.norm = std::sqrt(double(sq));
   return out;
 }
 
@@ -87,6 +94,83 @@ struct TurnedPlace {
   double norm = 0;
 };
 
+// One row of a turned image: out[col] for col in [lo, hi] samples the bordered place
+// bilinearly at (fc0 + dc col, fr0 + dr col) in fractional cells of the unbordered image, and is
+// zero where that lies outside (-1, n) in either axis.
+struct TurnedRow {
+  const float* cells;  // the bordered image
+  int side, n;         // its side and the unbordered side
+  double fc0, fr0, dc, dr;
+};
+
+void turned_row_base(const TurnedRow& t, int lo, int hi, float* out) {
+  const float n = float(t.n);
+  for (int col = lo; col <= hi; ++col) {
+    const float fc = float(t.fc0 + t.dc * col), fr = float(t.fr0 + t.dr * col);
+    if (!(fc > -1.f && fc < n && fr > -1.f && fr < n)) {
+      out[col] = 0.f;
+      continue;
+    }
+    const int ci = int(fc + 1.f), ri = int(fr + 1.f);  // floor + 1: the bordered index
+    const float wc = fc + 1.f - float(ci), wr = fr + 1.f - float(ri);
+    const float* p = t.cells + std::size_t(ri) * t.side + ci;
+    const float* q = p + t.side;
+    out[col] = (1 - wr) * ((1 - wc) * p[0] + wc * p[1]) + wr * ((1 - wc) * q[0] + wc * q[1]);
+  }
+}
+
+#if LOOPSCAN_HAVE_AVX2_CLONES
+// Eight columns at a time: coordinates in double as the scalar row computes them, the four
+// neighbours gathered.
+LOOPSCAN_AVX2 void turned_row_avx2(const TurnedRow& t, int lo, int hi, float* out) {
+  const __m256d fc0 = _mm256_set1_pd(t.fc0), fr0 = _mm256_set1_pd(t.fr0);
+  const __m256d dc = _mm256_set1_pd(t.dc), dr = _mm256_set1_pd(t.dr);
+  const __m256 low = _mm256_set1_ps(-1.f), high = _mm256_set1_ps(float(t.n)),
+               one = _mm256_set1_ps(1.f);
+  const __m256i side = _mm256_set1_epi32(t.side), last = _mm256_set1_epi32(hi);
+  const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  for (int col = lo; col <= hi; col += 8) {
+    const __m256i cols = _mm256_add_epi32(_mm256_set1_epi32(col), lanes);
+    const __m256d c_lo = _mm256_cvtepi32_pd(_mm256_castsi256_si128(cols));
+    const __m256d c_hi = _mm256_cvtepi32_pd(_mm256_extracti128_si256(cols, 1));
+    const __m256 fc = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_add_pd(fc0, _mm256_mul_pd(dc, c_hi))),
+                                      _mm256_cvtpd_ps(_mm256_add_pd(fc0, _mm256_mul_pd(dc, c_lo))));
+    const __m256 fr = _mm256_set_m128(_mm256_cvtpd_ps(_mm256_add_pd(fr0, _mm256_mul_pd(dr, c_hi))),
+                                      _mm256_cvtpd_ps(_mm256_add_pd(fr0, _mm256_mul_pd(dr, c_lo))));
+    __m256 inside =
+        _mm256_and_ps(_mm256_cmp_ps(fc, low, _CMP_GT_OQ), _mm256_cmp_ps(fc, high, _CMP_LT_OQ));
+    inside = _mm256_and_ps(inside, _mm256_and_ps(_mm256_cmp_ps(fr, low, _CMP_GT_OQ),
+                                                 _mm256_cmp_ps(fr, high, _CMP_LT_OQ)));
+    inside = _mm256_andnot_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(cols, last)), inside);
+    // Outside lanes sample the border's corner (index 0) and are zeroed afterwards.
+    const __m256 fc1 = _mm256_and_ps(_mm256_add_ps(fc, one), inside);
+    const __m256 fr1 = _mm256_and_ps(_mm256_add_ps(fr, one), inside);
+    const __m256i ci = _mm256_cvttps_epi32(fc1), ri = _mm256_cvttps_epi32(fr1);
+    const __m256 wc = _mm256_sub_ps(fc1, _mm256_cvtepi32_ps(ci));
+    const __m256 wr = _mm256_sub_ps(fr1, _mm256_cvtepi32_ps(ri));
+    const __m256i at = _mm256_add_epi32(_mm256_mullo_epi32(ri, side), ci);
+    const __m256 p0 = _mm256_i32gather_ps(t.cells, at, 4);
+    const __m256 p1 = _mm256_i32gather_ps(t.cells + 1, at, 4);
+    const __m256 q0 = _mm256_i32gather_ps(t.cells + t.side, at, 4);
+    const __m256 q1 = _mm256_i32gather_ps(t.cells + t.side + 1, at, 4);
+    const __m256 uc = _mm256_sub_ps(one, wc), ur = _mm256_sub_ps(one, wr);
+    const __m256 top = _mm256_add_ps(_mm256_mul_ps(uc, p0), _mm256_mul_ps(wc, p1));
+    const __m256 bottom = _mm256_add_ps(_mm256_mul_ps(uc, q0), _mm256_mul_ps(wc, q1));
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(ur, top), _mm256_mul_ps(wr, bottom));
+    _mm256_storeu_ps(out + col, _mm256_and_ps(v, inside));
+  }
+}
+#endif
+
+void turned_row(const TurnedRow& t, int lo, int hi, float* out) {
+#if LOOPSCAN_HAVE_AVX2_CLONES
+  static const auto kernel = simd::has_avx2() ? turned_row_avx2 : turned_row_base;
+#else
+  static const auto kernel = turned_row_base;
+#endif
+  kernel(t, lo, hi, out);
+}
+
 // The place image turned by yaw into the query's orientation: cell p of the result samples the
 // place at R(yaw)^T p (bilinear; zero outside). Cells of cell_m from -range_m in x and z.
 TurnedPlace turned_image(const BorderedImage& place, double yaw, double cell_m, double range_m) {
@@ -95,6 +179,7 @@ TurnedPlace turned_image(const BorderedImage& place, double yaw, double cell_m, 
   out.side = n;
   out.cells.resize(std::size_t(n) * std::size_t(n));
   out.values.resize(std::size_t(n) * std::size_t(n));
+  std::vector<float> row(std::size_t(n) + 8);  // a vector kernel may write 7 columns past n
   std::size_t kept = 0;  // written without a branch: whether a cell is empty is unpredictable
   const double c = std::cos(yaw), s = std::sin(yaw), offset = range_m / cell_m - 0.5;
   double sq = 0;
@@ -104,19 +189,18 @@ TurnedPlace turned_image(const BorderedImage& place, double yaw, double cell_m, 
     const double fc0 = (c * x0 + s * z) / cell_m + offset, fr0 = (-s * x0 + c * z) / cell_m + offset;
     const auto [c_lo, c_hi] = columns_inside(fc0, c, n);
     const auto [r_lo, r_hi] = columns_inside(fr0, -s, n);
-    for (int col = std::max(c_lo, r_lo); col <= std::min(c_hi, r_hi); ++col) {
-      const float fc = float(fc0 + c * col), fr = float(fr0 - s * col);
-      if (!(fc > -1.f && fc < float(n) && fr > -1.f && fr < float(n))) continue;
-      const int ci = int(fc + 1.f), ri = int(fr + 1.f);  // floor + 1: the bordered index
-      const float wc = fc + 1.f - float(ci), wr = fr + 1.f - float(ri);
-      const float* p = place.cells.data() + std::size_t(ri) * place.side + ci;
-      const float* q = p + place.side;
-      const float v = (1 - wr) * ((1 - wc) * p[0] + wc * p[1]) + wr * ((1 - wc) * q[0] + wc * q[1]);
+    const int lo = std::max(c_lo, r_lo), hi = std::min(c_hi, r_hi);
+    if (lo > hi) continue;
+    turned_row({place.cells.data(), place.side, n, fc0, fr0, c, -s}, lo, hi, row.data());
+    float row_sq = 0;  // the row's squares in float: the values are bilinear in bytes
+    for (int col = lo; col <= hi; ++col) {
+      const float v = row[col];
       out.cells[kept] = r * n + col;
       out.values[kept] = v;
       kept += v != 0.f;
-      sq += double(v) * v;
+      row_sq += v * v;
     }
+    sq += row_sq;
   }
   out.cells.resize(kept);
   out.values.resize(kept);

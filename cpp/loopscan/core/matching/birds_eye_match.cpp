@@ -18,23 +18,27 @@ double squared_norm(const std::vector<std::int8_t>& v) {
   return s;
 }
 
-// cos and sin of 2 pi i / A.
-struct UnitCircle {
+// The key's DFT along its angles: cos and -sin of 2 pi k a / A for a < A, k <= A / 2.
+struct KeyTransform {
   int angles = 0;
-  std::vector<double> cos, sin;
+  std::vector<double> cos, minus_sin;  // angles x (A / 2 + 1)
 };
 
-const UnitCircle& unit_circle(int angles) {
-  thread_local UnitCircle circle;
-  if (circle.angles == angles) return circle;
-  circle.angles = angles;
-  circle.cos.resize(angles);
-  circle.sin.resize(angles);
-  for (int i = 0; i < angles; ++i) {
-    circle.cos[i] = std::cos(2 * M_PI * i / angles);
-    circle.sin[i] = std::sin(2 * M_PI * i / angles);
+const KeyTransform& key_transform(int angles) {
+  thread_local KeyTransform t;
+  if (t.angles == angles) return t;
+  t.angles = angles;
+  const int terms = angles / 2 + 1;
+  t.cos.resize(std::size_t(angles) * terms);
+  t.minus_sin.resize(std::size_t(angles) * terms);
+  for (int a = 0; a < angles; ++a) {
+    for (int k = 0; k < terms; ++k) {
+      const double turn = 2 * M_PI * double((std::int64_t(k) * a) % angles) / angles;
+      t.cos[std::size_t(a) * terms + k] = std::cos(turn);
+      t.minus_sin[std::size_t(a) * terms + k] = -std::sin(turn);
+    }
   }
-  return circle;
+  return t;
 }
 
 // The inverse transform of a cross spectrum, per term k and shift s < H: w_k cos(2 pi k s / A)
@@ -222,18 +226,26 @@ BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
   s.re.assign(std::size_t(s.rings) * s.stride, 0.f);
   s.im.assign(std::size_t(s.rings) * s.stride, 0.f);
   s.norm = std::sqrt(squared_norm(place.key));
-  const UnitCircle& circle = unit_circle(angles);
+  // Per ring, the terms of all frequencies together: out[k] += v[a] e^{-2 pi i k a / A}, a loop
+  // over k that vectorises.
+  const KeyTransform& transform = key_transform(angles);
+  std::vector<double> re(terms), im(terms);
   for (int r = 0; r < s.rings; ++r) {
     const std::int8_t* v = place.key.data() + std::size_t(r) * angles;
-    for (int k = 0; k < terms; ++k) {
-      double re = 0, im = 0;
-      for (int a = 0, i = 0; a < angles; ++a, i = i + k < angles ? i + k : i + k - angles) {
-        // i = k a mod A (k < A)
-        re += v[a] * circle.cos[i];  // e^{-2 pi i k a / A}
-        im -= v[a] * circle.sin[i];
+    std::fill(re.begin(), re.end(), 0.0);
+    std::fill(im.begin(), im.end(), 0.0);
+    for (int a = 0; a < angles; ++a) {
+      const double value = v[a];
+      const double* c = transform.cos.data() + std::size_t(a) * terms;
+      const double* sn = transform.minus_sin.data() + std::size_t(a) * terms;
+      for (int k = 0; k < terms; ++k) {
+        re[k] += value * c[k];
+        im[k] += value * sn[k];
       }
-      s.re[std::size_t(r) * s.stride + k] = float(re);
-      s.im[std::size_t(r) * s.stride + k] = float(im);
+    }
+    for (int k = 0; k < terms; ++k) {
+      s.re[std::size_t(r) * s.stride + k] = float(re[k]);
+      s.im[std::size_t(r) * s.stride + k] = float(im[k]);
     }
   }
   return s;
