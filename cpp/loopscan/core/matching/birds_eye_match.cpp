@@ -284,11 +284,16 @@ std::vector<std::pair<double, std::size_t>> nearest_keys(
                   : 1.0;
     bounds.emplace_back(bound, i);
   }
-  std::sort(bounds.begin(), bounds.end());
-  // Places in order of their bound, exactly matched until no bound can beat the count-th best
-  // distance: what matching every place and sorting (distance, place) gives.
+  // Places in order of their bound (popped from a min-heap: the loop usually stops after a
+  // few), exactly matched until no bound can beat the count-th best distance: what matching
+  // every place and sorting (distance, place) gives.
+  const auto later = [](const auto& a, const auto& b) { return a > b; };
+  std::make_heap(bounds.begin(), bounds.end(), later);
   std::vector<std::pair<double, std::size_t>> best;  // a max-heap of the count best
-  for (const auto& [bound, i] : bounds) {
+  while (!bounds.empty()) {
+    std::pop_heap(bounds.begin(), bounds.end(), later);
+    const auto [bound, i] = bounds.back();
+    bounds.pop_back();
     if (best.size() == count && bound > best.front().first) break;
     const std::pair<double, std::size_t> found{match_key_spectra(query, spectrum(i)).distance, i};
     if (best.size() < count) {
