@@ -155,7 +155,7 @@ LOOPSCAN_INLINE void log_magnitude_impl(const float* image, int side, int band, 
     magnitude[2 * i + 1] = std::sqrt(re_negative * re_negative + im_negative * im_negative);
   }
   using I = typename simd::Vec<std::int32_t, W>::type;
-  for (std::size_t i = 0; i < magnitude.size(); i += L) {  // a multiple of L: stride is
+  for (std::size_t i = 0; i < magnitude.size(); i += L) {  // 2 terms stride: whole vectors
     simd::store(&magnitude[i], log1p_nonnegative<V, I>(simd::load<V>(&magnitude[i])));
   }
   for (int u = 0; u < terms; ++u) {
