@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -377,6 +379,27 @@ TEST(BirdsEyeMatch, KeySpectraAgreeWithTheDefinition) {
   EXPECT_EQ(pairs, 12 * 12 + 2 * 2 + 2 * 2);
 }
 
+// The bfloat16 copy the key scan's bound reads: real parts then imaginary parts, each the
+// float's upper 16 bits rounded to nearest, so within 2^-8 of it relatively (what the bound is
+// widened by).
+TEST(BirdsEyeMatch, RoundedSpectrumIsWithinItsRoundingBound) {
+  const BirdsEyePlaceConfig config;
+  const BirdsEyeKeySpectrum s =
+      key_spectrum(describe(scan_at(street_world(8), 1, 2, 0.3)), config.angles);
+  const std::vector<std::uint16_t> rounded = rounded_spectrum(s);
+  ASSERT_EQ(rounded.size(), s.re.size() + s.im.size());
+  int inexact = 0;
+  for (std::size_t i = 0; i < rounded.size(); ++i) {
+    const float exact = i < s.re.size() ? s.re[i] : s.im[i - s.re.size()];
+    const std::uint32_t bits = std::uint32_t(rounded[i]) << 16;
+    float value;
+    std::memcpy(&value, &bits, sizeof value);
+    ASSERT_LE(std::abs(value - exact), std::ldexp(std::abs(exact), -8)) << i;
+    inexact += value != exact;
+  }
+  EXPECT_GT(inexact, int(rounded.size()) / 2);  // it does round
+}
+
 // The bound-pruned search for the nearest keys returns exactly the head of every eligible
 // place's (distance, place) sorted: duplicated places (ties), places turned by any yaw, noise.
 TEST(BirdsEyeMatch, NearestKeysAreTheHeadOfTheSortedKeyDistances) {
@@ -395,8 +418,17 @@ TEST(BirdsEyeMatch, NearestKeysAreTheHeadOfTheSortedKeyDistances) {
   BirdsEyePlace empty;  // a place without structure: distance 1 to everything
   empty.key.assign(std::size_t(spectra[0].rings) * config.angles, 0);
   spectra.push_back(key_spectrum(empty, config.angles));
-  const auto at = [&](std::size_t i) { return view(spectra[i]); };
+  // Each place's spectrum as given, or with its bfloat16 copy for the bound.
+  std::vector<std::vector<std::uint16_t>> rounded;
+  for (const BirdsEyeKeySpectrum& s : spectra) rounded.push_back(rounded_spectrum(s));
+  bool use_rounded = false;
+  const auto at = [&](std::size_t i) {
+    BirdsEyeKeySpectrumView v = view(spectra[i]);
+    if (use_rounded) v.rounded = rounded[i].data();
+    return v;
+  };
   for (std::size_t q = 0; q < spectra.size(); q += 11) {
+    use_rounded = q % 2 == 1;
     const auto eligible = [&](std::size_t i) { return i % 5 != q % 5; };
     std::vector<std::pair<double, std::size_t>> all;
     for (std::size_t i = 0; i < spectra.size(); ++i) {

@@ -1,9 +1,11 @@
 // Bird's-eye places: the image and the key packed as bytes (the stored form, 5,040 bytes with
-// the default config), followed in memory by the key's angular spectrum. Every eligible
+// the default config), followed in memory by the key's angular spectrum; the spectra again as
+// bfloat16 in an arena of their own, for the key scan's bound. Every eligible
 // place's key is matched (a fraction of a microsecond a place) and the best become the
 // finalists, whose images the distance then searches (birds_eye_match.hpp): the exact query and
 // the indexed one alike, as in the difference-matrix rows.
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <mutex>
 #include <stdexcept>
@@ -55,7 +57,11 @@ class BirdsEyeStore final : public PlaceStore {
     out[0] = static_cast<float>(s.norm);
     std::copy(s.re.begin(), s.re.end(), out + 1);
     std::copy(s.im.begin(), s.im.end(), out + 1 + s.re.size());
+    std::vector<float> rounded(rounded_floats(place_config_));
+    const std::vector<std::uint16_t> halves = rounded_spectrum(s);
+    std::memcpy(rounded.data(), halves.data(), halves.size() * sizeof(std::uint16_t));
     arena_.append(record.data());
+    rounded_.append(rounded.data());
   }
 
   void indexed_up_to(std::size_t) override {}  // the records hold the key spectra
@@ -83,7 +89,12 @@ class BirdsEyeStore final : public PlaceStore {
                   std::vector<std::size_t>& out) const override {
     const auto nearest = nearest_keys(
         view(static_cast<const PlaceQuery&>(query).spectrum), n_places, eligible,
-        [&](std::size_t i) { return spectrum(record(i)); }, count);
+        [&](std::size_t i) {
+          BirdsEyeKeySpectrumView v = spectrum(record(i));
+          v.rounded = reinterpret_cast<const std::uint16_t*>(rounded_.at(i));
+          return v;
+        },
+        count);
     out.clear();
     for (const auto& [distance, i] : nearest) out.push_back(i);
   }
@@ -104,7 +115,7 @@ class BirdsEyeStore final : public PlaceStore {
     search_ = search;
   }
 
-  std::size_t index_bytes() const override { return 0; }
+  std::size_t index_bytes() const override { return rounded_.memory_bytes(); }
 
  private:
   static std::size_t payload_of(const BirdsEyePlaceConfig& c) {
@@ -114,6 +125,10 @@ class BirdsEyeStore final : public PlaceStore {
   // The norm, then the real and imaginary parts (rings x key_spectrum_stride each).
   static std::size_t spectrum_floats(const BirdsEyePlaceConfig& c) {
     return 1 + 2 * static_cast<std::size_t>(c.rings) * key_spectrum_stride(c.angles);
+  }
+  // Both parts again as bfloat16, two to a float.
+  static std::size_t rounded_floats(const BirdsEyePlaceConfig& c) {
+    return static_cast<std::size_t>(c.rings) * key_spectrum_stride(c.angles);
   }
 
   void pack(const BirdsEyePlace& place, float* payload) const {
@@ -145,6 +160,8 @@ class BirdsEyeStore final : public PlaceStore {
   BirdsEyePlaceConfig place_config_;
   BirdsEyeSearchConfig search_;
   std::size_t cells_, key_values_;
+  // Per place, its key spectrum as bfloat16, contiguous: what the key scan's bound streams.
+  PayloadArena rounded_{rounded_floats(place_config_)};
 };
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -172,6 +173,65 @@ float key_correlations(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectr
   return kernel(q, d, t, out);
 }
 
+// The bound of key_correlations (sum_k w_k |X_k|) from the place's bfloat16 spectrum.
+template <int W>
+LOOPSCAN_INLINE float rounded_bound_impl(const BirdsEyeKeySpectrumView& q,
+                                         const BirdsEyeKeySpectrumView& d, const ShiftTables& t) {
+  using V = typename simd::Vec<float, W>::type;
+  using U = typename simd::Vec<std::uint32_t, W>::type;
+  using H = typename simd::Vec<std::uint16_t, W / 2>::type;
+  constexpr int L = simd::Vec<float, W>::kLanes;
+  const int stride = q.stride, blocks = stride / L;
+  const std::uint16_t* dre = d.rounded;
+  const std::uint16_t* dim = d.rounded + std::size_t(d.rings) * stride;
+  alignas(64) float xr[kMaxAngles / 2 + kLanes], xi[kMaxAngles / 2 + kLanes];
+  for (int b = 0; b < blocks; ++b) {
+    V ar{}, ai{};
+    for (int r = 0; r < q.rings; ++r) {
+      const std::size_t o = std::size_t(r) * stride + std::size_t(b) * L;
+      const V qr = simd::load<V>(q.re + o), qi = simd::load<V>(q.im + o);
+      const V dr = V(__builtin_convertvector(simd::load<H>(dre + o), U) << 16);
+      const V di = V(__builtin_convertvector(simd::load<H>(dim + o), U) << 16);
+      ar += qr * dr + qi * di;
+      ai += qi * dr - qr * di;
+    }
+    simd::store(xr + b * L, ar);
+    simd::store(xi + b * L, ai);
+  }
+  float bound = 0;
+  for (int k = 0; k < t.terms; ++k) {
+    const float w = (k == 0 || 2 * k == t.angles) ? 1.f : 2.f;
+    bound += w * std::sqrt(xr[k] * xr[k] + xi[k] * xi[k]);
+  }
+  return bound;
+}
+
+float rounded_bound_base(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
+                         const ShiftTables& t) {
+  return rounded_bound_impl<16>(q, d, t);
+}
+#if LOOPSCAN_HAVE_AVX2_CLONES
+LOOPSCAN_AVX2 float rounded_bound_avx2(const BirdsEyeKeySpectrumView& q,
+                                       const BirdsEyeKeySpectrumView& d, const ShiftTables& t) {
+  return rounded_bound_impl<32>(q, d, t);
+}
+LOOPSCAN_AVX512 float rounded_bound_avx512(const BirdsEyeKeySpectrumView& q,
+                                           const BirdsEyeKeySpectrumView& d, const ShiftTables& t) {
+  return rounded_bound_impl<64>(q, d, t);
+}
+#endif
+
+float rounded_bound(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
+                    const ShiftTables& t) {
+#if LOOPSCAN_HAVE_AVX2_CLONES
+  static const auto kernel =
+      simd::widest(rounded_bound_avx512, rounded_bound_avx2, rounded_bound_base);
+#else
+  static const auto kernel = rounded_bound_base;
+#endif
+  return kernel(q, d, t);
+}
+
 void check_spectra(const BirdsEyeKeySpectrumView& query, const BirdsEyeKeySpectrumView& place) {
   if (query.rings != place.rings || query.angles != place.angles || query.angles < 2 ||
       query.angles > kMaxAngles || query.stride != key_spectrum_stride(query.angles) ||
@@ -251,6 +311,20 @@ BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
   return s;
 }
 
+std::vector<std::uint16_t> rounded_spectrum(const BirdsEyeKeySpectrum& spectrum) {
+  std::vector<std::uint16_t> out;
+  out.reserve(spectrum.re.size() + spectrum.im.size());
+  for (const std::vector<float>* part : {&spectrum.re, &spectrum.im}) {
+    for (float v : *part) {
+      std::uint32_t bits;
+      std::memcpy(&bits, &v, sizeof bits);
+      bits += 0x7fffu + ((bits >> 16) & 1u);  // to nearest, ties to even (finite values)
+      out.push_back(std::uint16_t(bits >> 16));
+    }
+  }
+  return out;
+}
+
 BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
                                    const BirdsEyeKeySpectrumView& place) {
   check_spectra(query, place);
@@ -278,10 +352,15 @@ std::vector<std::pair<double, std::size_t>> nearest_keys(
     const BirdsEyeKeySpectrumView d = spectrum(i);
     check_spectra(query, d);
     const double norms = query.norm * d.norm;
-    // Float sums may round a shift's correlation a little above the bound: widen it.
-    const double bound =
-        norms > 0 ? 1.0 - 1.0001 * key_correlations(query, d, t, nullptr) / (query.angles * norms)
-                  : 1.0;
+    // Float sums may round a shift's correlation a little above the bound: widen it. A rounded
+    // spectrum D' = D + E, |E_rk| <= 2^-8 |D_rk|, moves sum_k w_k |X_k| by at most
+    // 2^-8 sum_k w_k sum_r |Q_rk| |D_rk| <= 2^-8 A |q| |d| (Cauchy-Schwarz, then Parseval).
+    double bound = 1.0;
+    if (norms > 0 && d.rounded) {
+      bound = 1.0 - 1.0001 * rounded_bound(query, d, t) / (query.angles * norms) - 0.004;
+    } else if (norms > 0) {
+      bound = 1.0 - 1.0001 * key_correlations(query, d, t, nullptr) / (query.angles * norms);
+    }
     bounds.emplace_back(bound, i);
   }
   // Places in order of their bound (popped from a min-heap: the loop usually stops after a

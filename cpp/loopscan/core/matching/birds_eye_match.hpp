@@ -3,6 +3,7 @@
 // over their angles (a distance and the yaw modulo pi), then the images by a correlation over
 // shifts at that yaw and the yaw plus pi, for the place's metric pose in the query's frame.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <utility>
@@ -31,13 +32,18 @@ struct BirdsEyeKeySpectrum {
   double norm = 0;
 };
 BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles);
-// A spectrum held elsewhere (a database record).
+// A spectrum held elsewhere (a database record). `rounded`, where given, is the same spectrum
+// as bfloat16 (rounding_spectrum): half the bytes, read by nearest_keys' bound.
 struct BirdsEyeKeySpectrumView {
   int rings = 0, angles = 0, stride = 0;
   const float* re = nullptr;
   const float* im = nullptr;
   double norm = 0;
+  const std::uint16_t* rounded = nullptr;
 };
+// The spectrum's real parts, then its imaginary parts (rings x stride each), rounded to the
+// nearest bfloat16 (the upper 16 bits of a float; relative error <= 2^-8).
+std::vector<std::uint16_t> rounded_spectrum(const BirdsEyeKeySpectrum& spectrum);
 inline BirdsEyeKeySpectrumView view(const BirdsEyeKeySpectrum& s) {
   return {s.rings, s.angles, s.stride, s.re.data(), s.im.data(), s.norm};
 }
@@ -51,7 +57,9 @@ inline BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrum& query,
 // The `count` eligible places of [0, places) nearest to the query by key, as (distance, place)
 // in ascending order: what match_key_spectra on every eligible place and sorting the pairs give,
 // but a place whose bound on its best shift's correlation (from its cross spectrum, without the
-// inverse transform) cannot beat the count-th best so far is never matched in full.
+// inverse transform) cannot beat the count-th best so far is never matched in full. The bound
+// reads a place's rounded spectrum where its view has one, widened by what the rounding can
+// hide (2^-8 of the normalised correlation).
 std::vector<std::pair<double, std::size_t>> nearest_keys(
     const BirdsEyeKeySpectrumView& query, std::size_t places,
     const std::function<bool(std::size_t)>& eligible,
