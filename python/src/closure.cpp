@@ -2,6 +2,7 @@
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
+#include "configuration.hpp"
 #include "loopscan/closure/loop_closer.hpp"
 
 namespace loopscan::python {
@@ -36,11 +37,22 @@ void bind_closure(py::module_& m) {
       .def_readonly("accepted", &KeyframeClosure::accepted);
   py::class_<LoopCloser>(m, "LoopCloser",
                          "Online loop closing: recognition, ICP verification, pose graph.")
-      .def(py::init([](const std::string& method, const std::string& mode, double range_m) {
-             return LoopCloser(
-                 closure::LoopCloserConfig::make(parse_method(method), parse_mode(mode), range_m));
+      .def(py::init([](const std::optional<std::string>& method,
+                       const std::optional<std::string>& mode, const std::optional<double>& range_m,
+                       const std::optional<std::string>& config) {
+             if (!config) {
+               return LoopCloser(closure::LoopCloserConfig::make(
+                   parse_method(method.value_or("sc")), parse_mode(mode.value_or("default")),
+                   range_m.value_or(45.0)));
+             }
+             const Configuration c = load_python_configuration(*config, method, mode, range_m);
+             validate_loop_closing(c);
+             return LoopCloser(loop_closer_config(c));
            }),
-           py::arg("method") = "sc", py::arg("mode") = "default", py::arg("range_m") = 45.0)
+           py::arg("method") = py::none(), py::arg("mode") = py::none(),
+           py::arg("range_m") = py::none(), py::arg("config") = py::none(),
+           "As Recognizer: method (default sc), mode, range_m (default 45), or a configuration "
+           "file (the CLI's --config) with its closure section.")
       .def("add_keyframe", &add_keyframe_arrays<LoopCloser>, py::arg("keyframe"),
            py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false)
       .def("finish",

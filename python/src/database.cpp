@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include "arrays.hpp"
+#include "configuration.hpp"
 #include "loopscan/core/pipeline/recognizer.hpp"
 #include "loopscan/io/database_file.hpp"
 
@@ -147,19 +148,29 @@ void bind_database(py::module_& m) {
 
   py::class_<Recognizer>(m, "Recognizer",
                          "Streaming place recognition: feed keyframes and their VO points.")
-      .def(py::init([](const std::string& method, const std::string& mode, double range_m, int k,
-                       int session, int exclude_recent) {
+      .def(py::init([](const std::optional<std::string>& method,
+                       const std::optional<std::string>& mode, const std::optional<double>& range_m,
+                       int k, int session, int exclude_recent,
+                       const std::optional<std::string>& config) {
              RecognizerConfig c =
-                 RecognizerConfig::make(parse_method(method), parse_mode(mode), range_m);
+                 config
+                     ? recognizer_config(load_python_configuration(*config, method, mode, range_m))
+                     : RecognizerConfig::make(parse_method(method.value_or("sc")),
+                                              parse_mode(mode.value_or("default")),
+                                              range_m.value_or(45.0));
              c.k = k;
              c.session = session;
              c.query.exclude_recent = exclude_recent;
              return Recognizer(c);
            }),
-           py::arg("method") = "sc", py::arg("mode") = "default", py::arg("range_m") = 45.0,
-           py::arg("k") = 1, py::arg("session") = 0,
+           py::arg("method") = py::none(), py::arg("mode") = py::none(),
+           py::arg("range_m") = py::none(), py::arg("k") = 1, py::arg("session") = 0,
            py::arg("exclude_recent") =
-               RecognizerConfig::make(Method::ScanContext).query.exclude_recent)
+               RecognizerConfig::make(Method::ScanContext).query.exclude_recent,
+           py::arg("config") = py::none(),
+           "method: sc | m2dp | delight | bev (default sc), mode: default | reference, range_m "
+           "(default 45); config: a configuration file (as the CLI's --config) whose values "
+           "replace the defaults of its method and mode, range_m on top when given.")
       .def("add_keyframe", &add_keyframe_arrays<Recognizer>, py::arg("keyframe"),
            py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false,
            "One keyframe: its id, world-to-camera pose (3, 4) and the points (N, 4) the VO "

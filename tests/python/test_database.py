@@ -134,3 +134,35 @@ def test_birds_eye_recognizer_finds_the_twins_with_their_metric_pose():
     for c in twins:
         assert abs(c.x_m) < 1.0 and abs(c.z_m) < 1.0
         assert abs(np.remainder(c.yaw_rad + np.pi, 2 * np.pi) - np.pi) < 0.1
+
+
+def test_recognizer_and_closer_take_a_configuration_file(tmp_path):
+    (ids, T), (pid, xyzg) = loop_drive()
+    config = tmp_path / "bev.yaml"
+    config.write_text("method: bev\ndescriptors:\n  birds_eye:\n    search:\n      finalists: 2\n")
+
+    def most_candidates(rec):
+        most = 0
+        for i, kf in enumerate(ids):
+            for r in rec.add_keyframe(int(kf), T[i], xyzg[pid == kf]):
+                most = max(most, len(r.matches))
+        return most
+
+    rec = loopscan.Recognizer(config=str(config), k=5, exclude_recent=20)
+    assert rec.database.method == "bev"
+    # Only the key's finalists are scored: the file's 2, the default's 5.
+    assert most_candidates(rec) == 2
+    assert most_candidates(loopscan.Recognizer(method="bev", k=5, exclude_recent=20)) == 5
+
+    with pytest.raises(ValueError, match="bev"):
+        loopscan.Recognizer(method="sc", config=str(config))
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("imitation:\n  range_m: -1\n")
+    with pytest.raises(RuntimeError, match=r"bad\.yaml:2"):
+        loopscan.Recognizer(config=str(bad))
+    two_sided = tmp_path / "two_sided.yaml"
+    two_sided.write_text("imitation:\n  lookahead_m: 10\n")
+    loopscan.Recognizer(config=str(two_sided))  # a recognizer may wait for the scan ahead
+    with pytest.raises(ValueError, match="lookahead_m"):
+        loopscan.LoopCloser(config=str(two_sided))
+    assert loopscan.LoopCloser(config=str(config), range_m=40.0) is not None

@@ -145,16 +145,27 @@ LaneQueryOptions lane_query_options(const Configuration& c) {
   return lanes;
 }
 
-closure::LoopCloserConfig loop_closer_config(const Configuration& c) {
-  closure::LoopCloserConfig l = c.closure.closer;
-  RecognizerConfig& r = l.recognition;
-  const int exclude_recent = r.query.exclude_recent;
+RecognizerConfig recognizer_config(const Configuration& c) {
+  RecognizerConfig r;
   const SequenceOptions s = sequence_options(c);
   r.method = c.method;
   r.imitation = s.imitation;
   r.descriptors = s.descriptors;  // describe's, db's and the Recognizer's: one recognition path
   r.database = database_config(c);
   r.query = c.database.query;
+  return r;
+}
+
+closure::LoopCloserConfig loop_closer_config(const Configuration& c) {
+  closure::LoopCloserConfig l = c.closure.closer;
+  RecognizerConfig& r = l.recognition;
+  const RecognizerConfig file = recognizer_config(c);
+  const int exclude_recent = r.query.exclude_recent;  // the closer's own band
+  r.method = file.method;
+  r.imitation = file.imitation;
+  r.descriptors = file.descriptors;
+  r.database = file.database;
+  r.query = file.query;
   r.query.exclude_recent = exclude_recent;
   return l;
 }

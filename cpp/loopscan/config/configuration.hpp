@@ -129,6 +129,9 @@ DatabaseConfig database_config(const Configuration& c);
 // The width of c.method's signatures as c describes them (bev: its layout's).
 int signature_columns(const Configuration& c);
 LaneQueryOptions lane_query_options(const Configuration& c);
+// A streaming recognizer's: imitation, descriptors, database and query settings (its k, session
+// and lane versions keep their defaults).
+RecognizerConfig recognizer_config(const Configuration& c);
 closure::LoopCloserConfig loop_closer_config(const Configuration& c);
 baselines::GistConfig gist_config(const Configuration& c);
 // The conditions of a simulated session in `season` (the season's light unless the file sets it).

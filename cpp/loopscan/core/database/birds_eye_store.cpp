@@ -80,7 +80,7 @@ class BirdsEyeStore final : public PlaceStore {
     out[0] = birds_eye_distance(p);
   }
 
-  std::size_t exact_finalists() const override {
+  std::size_t finalists() const override {
     return static_cast<std::size_t>(std::max(1, search_.finalists));
   }
 

@@ -143,8 +143,9 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
   // The places scored exactly: all eligible ones, or the index's candidates.
   std::vector<std::size_t> scored;
   const bool exact = options.retrieval == Retrieval::Exact;
-  if (exact && store_->exact_finalists() > 0) {
-    store_->candidates(*query, store_->exact_finalists(), 0, eligible, n, scored);
+  if (store_->finalists() > 0) {
+    // Bird's-eye places: the key's finalists, whichever the retrieval (the distance's definition).
+    store_->candidates(*query, store_->finalists(), 0, eligible, n, scored);
   } else if (exact) {
     for (std::size_t i = 0; i < limit; ++i) {
       if (eligible(i)) scored.push_back(i);

@@ -51,10 +51,10 @@ class PlaceStore {
     distances(query, payload, out);
   }
   // Methods whose distance is defined on the finalists of a first ranking over every place
-  // (bird's-eye: the key's best, whose images are searched): how many finalists. The exact
-  // query then scores those candidates() of every eligible place, as the difference-matrix
-  // rows do; 0: the exact query scores every eligible place.
-  virtual std::size_t exact_finalists() const { return 0; }
+  // (bird's-eye: the key's best, whose images are searched): how many finalists. Every query,
+  // exact or indexed, then scores those candidates() of every eligible place, as the
+  // difference-matrix rows do; 0: the exact query scores every eligible place.
+  virtual std::size_t finalists() const { return 0; }
   // Indexed retrieval: up to `count` eligible places, best candidates first (`pool`: the
   // first stage's size where there are two stages).
   virtual void candidates(const Query& query, std::size_t count, std::size_t pool,

@@ -17,8 +17,6 @@ RecognizerConfig RecognizerConfig::make(Method method, Mode mode, double range_m
   c.database.method = method;
   c.database.scan_context = c.descriptors.scan_context;
   c.database.birds_eye = c.descriptors.birds_eye;
-  // Bird's-eye candidates are the key's finalists: each costs an image search.
-  if (method == Method::BirdsEye) c.query.candidates = c.database.birds_eye_search.finalists;
   c.query.exclude_recent = 99;
   return c;
 }
