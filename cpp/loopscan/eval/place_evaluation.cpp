@@ -59,8 +59,7 @@ PlaceEvaluation evaluate_places(const std::vector<Signature>& queries,
     Eigen::MatrixXd components;
     for (std::size_t i = t; i < queries.size(); i += threads) {
       const auto t0 = std::chrono::steady_clock::now();
-      matcher->distances(queries[i], components);
-      matcher->rerank(queries[i], static_cast<int>(i), mask, components);
+      matcher->rows(queries[i], static_cast<int>(i), mask, components);
       const Eigen::RowVectorXd row =
           adaptive ? adaptive_fused_row(components.row(0), components.row(1), out.weights)
                    : combine_components(components, options.fusion, options.structure_weight);

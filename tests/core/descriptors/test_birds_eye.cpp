@@ -602,7 +602,7 @@ TEST(BirdsEyeMethod, SignatureHoldsThePlaceAndRefusesOthers) {
   EXPECT_THROW(loopscan::describe(Method::BirdsEye, cloud, {}), std::invalid_argument);
 }
 
-TEST(BirdsEyeMethod, MatcherRowsAreKeyDistancesAndRerankSearchesTheAllowedFinalists) {
+TEST(BirdsEyeMethod, MatcherRowsAreKeyDistancesAndEvaluationRowsSearchTheAllowedFinalists) {
   const Places p = street_places(40, 3);
   BirdsEyeSearchConfig search;
   search.finalists = 5;
@@ -621,7 +621,7 @@ TEST(BirdsEyeMethod, MatcherRowsAreKeyDistancesAndRerankSearchesTheAllowedFinali
       if (std::abs(q - j) >= 10) allowed.emplace_back(rows(0, j), j);
     }
     std::sort(allowed.begin(), allowed.end());
-    matcher->rerank(p.signatures[q], q, 10, rows);
+    matcher->rows(p.signatures[q], q, 10, rows);
     for (int j = 0; j < 40; ++j) {
       const bool finalist =
           std::find_if(allowed.begin(), allowed.begin() + 5,
@@ -666,8 +666,7 @@ TEST(BirdsEyeMethod, DatabaseQueriesEqualTheirBruteForceOracles) {
     // Exact: the image search of the key's finalists over every place, as the rows define it.
     const int best = best_of_key_finalists(query, BirdsEyeSearchConfig{}.finalists);
     Eigen::MatrixXd row;
-    matcher->distances(p.signatures[q], row);
-    matcher->rerank(p.signatures[q], 1000, 0, row);
+    matcher->rows(p.signatures[q], 1000, 0, row);
     Eigen::Index row_best = 0;
     row.row(0).minCoeff(&row_best);
     EXPECT_EQ(row_best, best);

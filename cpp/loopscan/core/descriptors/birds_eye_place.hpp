@@ -47,6 +47,13 @@ inline bool same_layout(const BirdsEyePlaceConfig& a, const BirdsEyePlaceConfig&
   return a.cell == b.cell && a.cell_m == b.cell_m && a.range_m == b.range_m && a.rings == b.rings &&
          a.angles == b.angles;
 }
+// Whether the two describe alike: the layout and every other field.
+inline bool same_description(const BirdsEyePlaceConfig& a, const BirdsEyePlaceConfig& b) {
+  return same_layout(a, b) && a.taper_start_m == b.taper_start_m &&
+         a.taper_end_m == b.taper_end_m && a.min_height_m == b.min_height_m &&
+         a.spectrum_size == b.spectrum_size && a.min_frequency == b.min_frequency &&
+         a.max_frequency == b.max_frequency;
+}
 inline int image_side(const BirdsEyePlaceConfig& config) {
   return std::max(1, static_cast<int>(std::lround(2.0 * config.range_m / config.cell_m)));
 }

@@ -1,5 +1,7 @@
 #include "loopscan/core/descriptors/describe.hpp"
 
+#include <memory>
+
 #include "loopscan/core/descriptors/delight.hpp"
 #include "loopscan/core/descriptors/m2dp.hpp"
 #include "loopscan/core/descriptors/scan_context.hpp"
@@ -38,6 +40,21 @@ DescriptorFrame descriptor_frame(Method method, const DescriptorConfig& config) 
   return config.delight.mode == Mode::Reference ? DescriptorFrame::Pca : config.delight.frame;
 }
 
+namespace {
+
+// The describer a thread keeps for the configuration it last described with: building one
+// tables the transform, the key's samples and the taper, which costs about a place's
+// description.
+const BirdsEyeDescriber& birds_eye_describer(const BirdsEyePlaceConfig& config) {
+  thread_local std::unique_ptr<BirdsEyeDescriber> describer;
+  if (!describer || !same_description(describer->config(), config)) {
+    describer = std::make_unique<BirdsEyeDescriber>(config);
+  }
+  return *describer;
+}
+
+}  // namespace
+
 Signature describe(Method method, const Cloud& scan, const DescriptorConfig& config,
                    Eigen::Matrix3d* frame) {
   if (frame) frame->setIdentity();
@@ -58,7 +75,7 @@ Signature describe(Method method, const Cloud& scan, const DescriptorConfig& con
         z[i] = static_cast<float>(p.z());
       }
       return birds_eye_signature(
-          BirdsEyeDescriber(config.birds_eye).describe(x.data(), y.data(), z.data(), x.size()));
+          birds_eye_describer(config.birds_eye).describe(x.data(), y.data(), z.data(), x.size()));
     }
   }
   return {};

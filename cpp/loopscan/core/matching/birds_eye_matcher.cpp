@@ -1,6 +1,8 @@
-// Bird's-eye difference-matrix rows: exact key distances to every place, then the image search
-// on the query's finalists (the two stages of birds_eye_match.hpp).
+// Bird's-eye difference-matrix rows: exact key distances to every place; the evaluation's rows
+// search the images of the query's key finalists (the two stages of birds_eye_match.hpp).
 #include <algorithm>
+#include <cstdint>
+#include <cstdlib>
 #include <limits>
 
 #include "loopscan/core/matching/place_matcher.hpp"
@@ -18,6 +20,8 @@ class BirdsEyeMatcher final : public PlaceMatcher {
   void add(const Signature& place) override {
     places_.push_back(birds_eye_place(place, place_config_));
     spectra_.push_back(key_spectrum(places_.back(), place_config_.angles));
+    const std::vector<std::uint16_t> r = rounded_spectrum(spectra_.back());
+    rounded_.insert(rounded_.end(), r.begin(), r.end());
   }
   std::size_t size() const override { return places_.size(); }
   int components() const override { return 1; }
@@ -31,30 +35,29 @@ class BirdsEyeMatcher final : public PlaceMatcher {
     }
   }
 
-  void rerank(const Signature& query, int query_index, int mask_width,
-              Eigen::MatrixXd& rows) const override {
+  // The allowed columns' key finalists by nearest_keys (what sorting distances()' allowed
+  // columns by (distance, column) gives, without matching every key in full).
+  void rows(const Signature& query, int query_index, int mask_width,
+            Eigen::MatrixXd& rows) const override {
     const BirdsEyePlace q = birds_eye_place(query, place_config_);
     const BirdsEyeKeySpectrum qs = key_spectrum(q, place_config_.angles);
+    const std::size_t per_place = qs.re.size() + qs.im.size();
+    const auto finalists = nearest_keys(
+        view(qs), places_.size(),
+        [&](std::size_t j) { return std::abs(query_index - static_cast<int>(j)) >= mask_width; },
+        [&](std::size_t j) {
+          BirdsEyeKeySpectrumView v = view(spectra_[j]);
+          v.rounded = rounded_.data() + j * per_place;
+          return v;
+        },
+        static_cast<std::size_t>(std::max(0, search_.finalists)));
+    rows = Eigen::MatrixXd::Constant(1, static_cast<Eigen::Index>(places_.size()),
+                                     std::numeric_limits<double>::infinity());
     const BirdsEyeImageSearch images(q, place_config_, search_);
-    std::vector<int> allowed;
-    for (int j = 0; j < static_cast<int>(rows.cols()); ++j) {
-      if (std::abs(query_index - j) >= mask_width) allowed.push_back(j);
-    }
-    const std::size_t f =
-        std::min(allowed.size(), static_cast<std::size_t>(std::max(0, search_.finalists)));
-    const auto by_key = [&](int a, int b) {
-      return rows(0, a) < rows(0, b) || (rows(0, a) == rows(0, b) && a < b);
-    };
-    std::partial_sort(allowed.begin(), allowed.begin() + static_cast<std::ptrdiff_t>(f),
-                      allowed.end(), by_key);
-    Eigen::RowVectorXd out =
-        Eigen::RowVectorXd::Constant(rows.cols(), std::numeric_limits<double>::infinity());
-    for (std::size_t i = 0; i < f; ++i) {
-      const int j = allowed[i];
+    for (const auto& [key_distance, j] : finalists) {
       const double yaw = match_key_spectra(qs, spectra_[j]).yaw_rad;
-      out(j) = birds_eye_distance(images.pose(places_[j], yaw));
+      rows(0, static_cast<Eigen::Index>(j)) = birds_eye_distance(images.pose(places_[j], yaw));
     }
-    rows.row(0) = out;
   }
 
  private:
@@ -62,6 +65,7 @@ class BirdsEyeMatcher final : public PlaceMatcher {
   BirdsEyeSearchConfig search_;
   std::vector<BirdsEyePlace> places_;
   std::vector<BirdsEyeKeySpectrum> spectra_;
+  std::vector<std::uint16_t> rounded_;  // the spectra as bfloat16, place after place
 };
 
 }  // namespace

@@ -22,11 +22,14 @@ class PlaceMatcher {
   virtual int components() const = 0;
   // rows(c, j) = component c of the distance from `query` to database place j.
   virtual void distances(const Signature& query, Eigen::MatrixXd& rows) const = 0;
-  // Two-stage methods (the bird's-eye place) rank by a key in distances(); rerank then scores
-  // the best finalists among the columns the query may match (|query_index - j| >= mask_width)
-  // exactly and sets every other column to +inf. One-stage methods leave the rows alone.
-  virtual void rerank(const Signature& /*query*/, int /*query_index*/, int /*mask_width*/,
-                      Eigen::MatrixXd& /*rows*/) const {}
+  // The evaluation's rows for query `query_index`, which may match the columns j with
+  // |query_index - j| >= mask_width: distances() for one-stage methods. Two-stage methods (the
+  // bird's-eye place) rank those columns by the key distance of distances(), score the best
+  // finalists exactly and set every other column to +inf.
+  virtual void rows(const Signature& query, int /*query_index*/, int /*mask_width*/,
+                    Eigen::MatrixXd& rows) const {
+    distances(query, rows);
+  }
 };
 
 std::unique_ptr<PlaceMatcher> make_matcher(Method method, Precision precision,
@@ -36,7 +39,7 @@ std::unique_ptr<PlaceMatcher> make_scan_context_matcher(Precision precision,
                                                         const ScanContextConfig& config);
 std::unique_ptr<PlaceMatcher> make_m2dp_matcher(Precision precision);
 std::unique_ptr<PlaceMatcher> make_delight_matcher(Precision precision);
-// Key distances (exact, float) in distances(); rerank searches the images of `finalists`.
+// Key distances (exact, float) in distances(); rows() searches the images of `finalists`.
 std::unique_ptr<PlaceMatcher> make_birds_eye_matcher(const BirdsEyePlaceConfig& place = {},
                                                      const BirdsEyeSearchConfig& search = {});
 
