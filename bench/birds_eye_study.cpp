@@ -1,11 +1,14 @@
 // Study of the bird's-eye place (docs/experiments/birds-eye-place.md): imitates every keyframe's
-// scan of a VO sequence (the in-range points, as the loop closer sees them), describes it with
+// scan of a VO sequence (as `describe` and the Recognizer do), describes it with
 // density cells and with height cells, and evaluates recognition by the paper's protocol: each
 // query's best place by key distance alone, and after the image search on the key's K best
 // (finalists); then with the cell kind whose keys separate better over the whole run. Same
 // session (10 m, mask 100), or a query session against a map session (25 m, no mask).
 //
-//   loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K]   (K: the library default)
+//   loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] [--in-range]
+//
+// K: the library default. Places are described from the scan `describe` and the Recognizer
+// describe (polar-filtered); --in-range describes every in-range point instead.
 //
 // Each directory holds poses_history_file.txt, pts_history_file.txt[.gz] and gt.txt.
 #include <algorithm>
@@ -20,6 +23,7 @@
 
 #include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/core/matching/birds_eye_match.hpp"
+#include "loopscan/core/scan/camera_points.hpp"
 #include "loopscan/core/parallel.hpp"
 #include "loopscan/core/pipeline/describe_sequence.hpp"
 #include "loopscan/core/timing.hpp"
@@ -47,7 +51,10 @@ std::string points_file(const std::string& dir) {
   return std::filesystem::exists(plain) ? plain : plain + ".gz";
 }
 
-Session load(const std::string& dir, const std::array<BirdsEyePlaceConfig, 2>& configs) {
+// pipeline_scan: the scan `describe` and the Recognizer describe (the bird's-eye method's
+// filter); otherwise every in-range point.
+Session load(const std::string& dir, const std::array<BirdsEyePlaceConfig, 2>& configs,
+             bool pipeline_scan) {
   const auto poses = io::read_sodso_poses(dir + "/poses_history_file.txt");
   const auto points = io::read_sodso_points(points_file(dir));
   const auto format = io::detect_gt_format(dir + "/gt.txt");
@@ -58,14 +65,16 @@ Session load(const std::string& dir, const std::array<BirdsEyePlaceConfig, 2>& c
   ScanImitator imitator(options.imitation);
   const std::array<BirdsEyeDescriber, 2> describers{BirdsEyeDescriber(configs[0]),
                                                     BirdsEyeDescriber(configs[1])};
+  const ScanFilter filter = filter_for(pipeline_scan ? Method::BirdsEye : Method::ScanContext);
   Session s;
   std::vector<ReadyScan> ready;
   auto take = [&] {
     for (const ReadyScan& r : ready) {
+      const CameraPoints points = pipeline_scan ? to_camera_points(r.scan) : r.in_range;
       for (int c : {kDensity, kHeight}) {
         const auto t0 = std::chrono::steady_clock::now();
-        s.places[c].push_back(describers[c].describe(r.in_range.x.data(), r.in_range.y.data(),
-                                                     r.in_range.z.data(), r.in_range.size()));
+        s.places[c].push_back(describers[c].describe(points.x.data(), points.y.data(),
+                                                     points.z.data(), points.size()));
         s.keys[c].push_back(key_spectrum(s.places[c].back(), configs[c].angles));
         s.describe_ms[c] += ms_since(t0);
       }
@@ -81,11 +90,11 @@ Session load(const std::string& dir, const std::array<BirdsEyePlaceConfig, 2>& c
   for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* first, std::size_t n) {
     const bool reset = std::find(resets.begin(), resets.end(), k.id) != resets.end();
     const auto t0 = std::chrono::steady_clock::now();
-    imitator.push(k, first, n, reset, filter_for(Method::ScanContext), ready);
+    imitator.push(k, first, n, reset, filter, ready);
     s.imitate_ms += ms_since(t0);
     take();
   });
-  imitator.finish(filter_for(Method::ScanContext), ready);
+  imitator.finish(filter, ready);
   take();
   const double n = std::max<double>(1, s.positions.size());
   s.imitate_ms /= n;
@@ -171,24 +180,28 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
 int main(int argc, char** argv) {
   std::vector<std::string> dirs;
   int finalists = BirdsEyeSearchConfig{}.finalists;
+  bool pipeline_scan = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--finalists" && i + 1 < argc) {
       finalists = std::atoi(argv[++i]);
+    } else if (a == "--in-range") {
+      pipeline_scan = false;
     } else {
       dirs.push_back(a);
     }
   }
   if (dirs.empty() || dirs.size() > 2 || finalists < 1) {
-    std::fprintf(stderr, "usage: loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K]\n");
+    std::fprintf(stderr, "usage: loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] "
+                 "[--in-range]\n");
     return 2;
   }
   try {
     std::array<BirdsEyePlaceConfig, 2> configs;
     configs[kHeight].cell = BirdsEyeCell::Height;
     const bool cross = dirs.size() == 2;
-    const Session db = load(dirs[0], configs);
-    const Session q = cross ? load(dirs[1], configs) : Session{};
+    const Session db = load(dirs[0], configs, pipeline_scan);
+    const Session q = cross ? load(dirs[1], configs, pipeline_scan) : Session{};
     const Session& queries = cross ? q : db;
     const eval::Protocol protocol =
         cross ? eval::cross_session_protocol() : eval::same_session_protocol();
