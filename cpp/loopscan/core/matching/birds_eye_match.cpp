@@ -75,25 +75,47 @@ const ShiftTables& shift_tables(int angles) {
 constexpr int kMaxAngles = 720;
 
 // The cross spectrum of two keys summed over rings, X_k = sum_r Q_rk conj(D_rk), as real and
-// imaginary parts of stride floats. W: the vector width in bytes.
-template <int W>
+// imaginary parts of stride floats; from the place's bfloat16 copy where `Rounded`. W: the
+// vector width in bytes.
+template <int W, bool Rounded>
 LOOPSCAN_INLINE void cross_spectrum_impl(const BirdsEyeKeySpectrumView& q,
                                          const BirdsEyeKeySpectrumView& d, float* xr, float* xi) {
   using V = typename simd::Vec<float, W>::type;
+  using U = typename simd::Vec<std::uint32_t, W>::type;
+  using H = typename simd::Vec<std::uint16_t, W / 2>::type;
   constexpr int L = simd::Vec<float, W>::kLanes;
   const int stride = q.stride, blocks = stride / L;
+  const std::size_t parts = std::size_t(d.rings) * stride;  // the rounded copy's real parts
   for (int b = 0; b < blocks; ++b) {
     V ar{}, ai{};
     for (int r = 0; r < q.rings; ++r) {
       const std::size_t o = std::size_t(r) * stride + std::size_t(b) * L;
       const V qr = simd::load<V>(q.re + o), qi = simd::load<V>(q.im + o);
-      const V dr = simd::load<V>(d.re + o), di = simd::load<V>(d.im + o);
+      V dr, di;
+      if constexpr (Rounded) {  // a bfloat16 is a float's upper 16 bits
+        dr = V(__builtin_convertvector(simd::load<H>(d.rounded + o), U) << 16);
+        di = V(__builtin_convertvector(simd::load<H>(d.rounded + parts + o), U) << 16);
+      } else {
+        dr = simd::load<V>(d.re + o);
+        di = simd::load<V>(d.im + o);
+      }
       ar += qr * dr + qi * di;
       ai += qi * dr - qr * di;
     }
     simd::store(xr + b * L, ar);
     simd::store(xi + b * L, ai);
   }
+}
+
+// The cross spectrum's bound on every shift's correlation, sum_k w_k |X_k| (w_k as in the
+// tables).
+float spectrum_bound(const float* xr, const float* xi, int terms, int angles) {
+  float bound = 0;
+  for (int k = 0; k < terms; ++k) {
+    const float w = (k == 0 || 2 * k == angles) ? 1.f : 2.f;
+    bound += w * std::sqrt(xr[k] * xr[k] + xi[k] * xi[k]);
+  }
+  return bound;
 }
 
 // The inverse transform of a cross spectrum: the correlation at every shift (out[s], s < A).
@@ -125,24 +147,20 @@ LOOPSCAN_INLINE void shift_correlations_impl(const float* xr, const float* xi, c
   }
 }
 
-// Every shift's correlation when `out` is given; else only the cross spectrum's bound on it,
-// sum_k w_k |X_k| (w_k as in the tables): no shift's correlation can exceed it.
-template <int W>
+// Every shift's correlation when `out` is given; else only the cross spectrum's bound on it
+// (spectrum_bound), from the place's bfloat16 copy where `Rounded`: no shift's correlation can
+// exceed it.
+template <int W, bool Rounded = false>
 LOOPSCAN_INLINE float key_correlations_impl(const BirdsEyeKeySpectrumView& q,
                                             const BirdsEyeKeySpectrumView& d, const ShiftTables& t,
                                             float* out) {
   alignas(64) float xr[kMaxAngles / 2 + kLanes], xi[kMaxAngles / 2 + kLanes];
-  cross_spectrum_impl<W>(q, d, xr, xi);
+  cross_spectrum_impl<W, Rounded>(q, d, xr, xi);
   if (out) {
     shift_correlations_impl<W>(xr, xi, t, out);
     return 0;
   }
-  float bound = 0;
-  for (int k = 0; k < t.terms; ++k) {
-    const float w = (k == 0 || 2 * k == t.angles) ? 1.f : 2.f;
-    bound += w * std::sqrt(xr[k] * xr[k] + xi[k] * xi[k]);
-  }
-  return bound;
+  return spectrum_bound(xr, xi, t.terms, t.angles);
 }
 
 float key_correlations_base(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
@@ -173,51 +191,18 @@ float key_correlations(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectr
   return kernel(q, d, t, out);
 }
 
-// The bound of key_correlations (sum_k w_k |X_k|) from the place's bfloat16 spectrum.
-template <int W>
-LOOPSCAN_INLINE float rounded_bound_impl(const BirdsEyeKeySpectrumView& q,
-                                         const BirdsEyeKeySpectrumView& d, const ShiftTables& t) {
-  using V = typename simd::Vec<float, W>::type;
-  using U = typename simd::Vec<std::uint32_t, W>::type;
-  using H = typename simd::Vec<std::uint16_t, W / 2>::type;
-  constexpr int L = simd::Vec<float, W>::kLanes;
-  const int stride = q.stride, blocks = stride / L;
-  const std::uint16_t* dre = d.rounded;
-  const std::uint16_t* dim = d.rounded + std::size_t(d.rings) * stride;
-  alignas(64) float xr[kMaxAngles / 2 + kLanes], xi[kMaxAngles / 2 + kLanes];
-  for (int b = 0; b < blocks; ++b) {
-    V ar{}, ai{};
-    for (int r = 0; r < q.rings; ++r) {
-      const std::size_t o = std::size_t(r) * stride + std::size_t(b) * L;
-      const V qr = simd::load<V>(q.re + o), qi = simd::load<V>(q.im + o);
-      const V dr = V(__builtin_convertvector(simd::load<H>(dre + o), U) << 16);
-      const V di = V(__builtin_convertvector(simd::load<H>(dim + o), U) << 16);
-      ar += qr * dr + qi * di;
-      ai += qi * dr - qr * di;
-    }
-    simd::store(xr + b * L, ar);
-    simd::store(xi + b * L, ai);
-  }
-  float bound = 0;
-  for (int k = 0; k < t.terms; ++k) {
-    const float w = (k == 0 || 2 * k == t.angles) ? 1.f : 2.f;
-    bound += w * std::sqrt(xr[k] * xr[k] + xi[k] * xi[k]);
-  }
-  return bound;
-}
-
 float rounded_bound_base(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
                          const ShiftTables& t) {
-  return rounded_bound_impl<16>(q, d, t);
+  return key_correlations_impl<16, true>(q, d, t, nullptr);
 }
 #if LOOPSCAN_HAVE_AVX2_CLONES
 LOOPSCAN_AVX2 float rounded_bound_avx2(const BirdsEyeKeySpectrumView& q,
                                        const BirdsEyeKeySpectrumView& d, const ShiftTables& t) {
-  return rounded_bound_impl<32>(q, d, t);
+  return key_correlations_impl<32, true>(q, d, t, nullptr);
 }
 LOOPSCAN_AVX512 float rounded_bound_avx512(const BirdsEyeKeySpectrumView& q,
                                            const BirdsEyeKeySpectrumView& d, const ShiftTables& t) {
-  return rounded_bound_impl<64>(q, d, t);
+  return key_correlations_impl<64, true>(q, d, t, nullptr);
 }
 #endif
 
