@@ -195,7 +195,7 @@ const std::vector<BirdsEyePlace>& birds_eye_places() {
   static const std::vector<BirdsEyePlace> places = [] {
     std::vector<BirdsEyePlace> out;
     const BirdsEyeDescriber describer;
-    for (const Cloud& c : data().in_range) {
+    for (const Cloud& c : data().polar) {  // the scans the pipeline describes
       const CameraPoints p = to_camera_points(c);
       out.push_back(describer.describe(p.x.data(), p.y.data(), p.z.data(), p.size()));
     }
@@ -207,7 +207,7 @@ const std::vector<BirdsEyePlace>& birds_eye_places() {
 void BM_BirdsEyeDescribe(benchmark::State& state) {
   const Data& d = data();
   std::vector<CameraPoints> scans;
-  for (const Cloud& c : d.in_range) scans.push_back(to_camera_points(c));
+  for (const Cloud& c : d.polar) scans.push_back(to_camera_points(c));  // as the pipeline
   const BirdsEyeDescriber describer;
   for (auto _ : state) {
     for (const CameraPoints& p : scans) {
