@@ -84,18 +84,29 @@ void bind_database(py::module_& m) {
       .def("__repr__", &candidate_repr);
 
   py::class_<Database>(m, "Database", "Places to query online (exact or indexed search).")
-      .def(py::init([](const std::string& method, const std::string& fusion,
-                       double structure_weight, const std::string& storage) {
+      .def(py::init([](const std::optional<std::string>& method,
+                       const std::optional<std::string>& fusion,
+                       const std::optional<double>& structure_weight,
+                       const std::optional<std::string>& storage,
+                       const std::optional<std::string>& config) {
              DatabaseConfig c;
-             c.method = parse_method(method);
-             c.fusion = parse_fusion(fusion);
-             c.structure_weight = structure_weight;
-             c.storage = parse_storage(storage);
+             if (config) {
+               c = database_config(
+                   load_python_configuration(*config, method, std::nullopt, std::nullopt));
+             } else {
+               c.method = parse_method(method.value_or("sc"));
+             }
+             if (fusion) c.fusion = parse_fusion(*fusion);
+             if (structure_weight) c.structure_weight = *structure_weight;
+             if (storage) c.storage = parse_storage(*storage);
              return Database(c);
            }),
-           py::arg("method") = "sc", py::arg("fusion") = fusion_name(DatabaseConfig{}.fusion),
-           py::arg("structure_weight") = DatabaseConfig{}.structure_weight,
-           py::arg("storage") = storage_name(DatabaseConfig{}.storage))
+           py::arg("method") = py::none(), py::arg("fusion") = py::none(),
+           py::arg("structure_weight") = py::none(), py::arg("storage") = py::none(),
+           py::arg("config") = py::none(),
+           "method: sc | m2dp | delight | bev (default sc); fusion, structure_weight and storage "
+           "default to DatabaseConfig's; config: a configuration file (as the CLI's --config) "
+           "whose database and descriptor sections replace those defaults.")
       .def(
           "add",
           [](Database& db, const DoubleArray& signature, int keyframe, int session,

@@ -166,3 +166,21 @@ def test_recognizer_and_closer_take_a_configuration_file(tmp_path):
     with pytest.raises(ValueError, match="lookahead_m"):
         loopscan.LoopCloser(config=str(two_sided))
     assert loopscan.LoopCloser(config=str(config), range_m=40.0) is not None
+
+
+def test_database_takes_a_configuration_file(tmp_path):
+    (ids, T), (pid, xyzg) = loop_drive()
+    sigs = loopscan.describe_sequence((ids, T), (pid, xyzg), method="bev", reset_ids=[])
+    config = tmp_path / "bev.yaml"
+    config.write_text("method: bev\ndescriptors:\n  birds_eye:\n    search:\n      finalists: 2\n")
+    tuned, default = loopscan.Database(config=str(config)), loopscan.Database(method="bev")
+    assert tuned.method == "bev"
+    for db in (tuned, default):
+        for i, kf in enumerate(sigs.keyframe_ids[:100]):
+            db.add(sigs.signatures[i], int(kf))
+    q = sigs.signatures[120]
+    assert len(tuned.query(q, k=5)) == 2  # only the key's finalists are scored
+    assert len(default.query(q, k=5)) == 5
+    assert tuned.query(q, k=1)[0].keyframe == default.query(q, k=1)[0].keyframe
+    with pytest.raises(ValueError, match="bev"):
+        loopscan.Database(method="sc", config=str(config))
