@@ -386,7 +386,7 @@ TEST(BirdsEyeMatch, RoundedSpectrumIsWithinItsRoundingBound) {
   const BirdsEyePlaceConfig config;
   const BirdsEyeKeySpectrum s =
       key_spectrum(describe(scan_at(street_world(8), 1, 2, 0.3)), config.angles);
-  const std::vector<std::uint16_t> rounded = rounded_spectrum(s);
+  const std::vector<std::uint16_t>& rounded = s.rounded;
   ASSERT_EQ(rounded.size(), s.re.size() + s.im.size());
   int inexact = 0;
   for (std::size_t i = 0; i < rounded.size(); ++i) {
@@ -418,13 +418,11 @@ TEST(BirdsEyeMatch, NearestKeysAreTheHeadOfTheSortedKeyDistances) {
   BirdsEyePlace empty;  // a place without structure: distance 1 to everything
   empty.key.assign(std::size_t(spectra[0].rings) * config.angles, 0);
   spectra.push_back(key_spectrum(empty, config.angles));
-  // Each place's spectrum as given, or with its bfloat16 copy for the bound.
-  std::vector<std::vector<std::uint16_t>> rounded;
-  for (const BirdsEyeKeySpectrum& s : spectra) rounded.push_back(rounded_spectrum(s));
+  // Each place's spectrum with its bfloat16 copy for the bound, or without it.
   bool use_rounded = false;
   const auto at = [&](std::size_t i) {
     BirdsEyeKeySpectrumView v = view(spectra[i]);
-    if (use_rounded) v.rounded = rounded[i].data();
+    if (!use_rounded) v.rounded = nullptr;
     return v;
   };
   for (std::size_t q = 0; q < spectra.size(); q += 11) {

@@ -57,11 +57,8 @@ class BirdsEyeStore final : public PlaceStore {
     out[0] = static_cast<float>(s.norm);
     std::copy(s.re.begin(), s.re.end(), out + 1);
     std::copy(s.im.begin(), s.im.end(), out + 1 + s.re.size());
-    std::vector<float> rounded(rounded_floats(place_config_));
-    const std::vector<std::uint16_t> halves = rounded_spectrum(s);
-    std::memcpy(rounded.data(), halves.data(), halves.size() * sizeof(std::uint16_t));
     arena_.append(record.data());
-    rounded_.append(rounded.data());
+    rounded_.append(reinterpret_cast<const float*>(s.rounded.data()));  // copied as bytes
   }
 
   void indexed_up_to(std::size_t) override {}  // the records hold the key spectra
@@ -89,12 +86,7 @@ class BirdsEyeStore final : public PlaceStore {
                   std::vector<std::size_t>& out) const override {
     const auto nearest = nearest_keys(
         view(static_cast<const PlaceQuery&>(query).spectrum), n_places, eligible,
-        [&](std::size_t i) {
-          BirdsEyeKeySpectrumView v = spectrum(record(i));
-          v.rounded = reinterpret_cast<const std::uint16_t*>(rounded_.at(i));
-          return v;
-        },
-        count);
+        [&](std::size_t i) { return spectrum(i); }, count);
     out.clear();
     for (const auto& [distance, i] : nearest) out.push_back(i);
   }
@@ -151,6 +143,12 @@ class BirdsEyeStore final : public PlaceStore {
     const int stride = key_spectrum_stride(place_config_.angles);
     const std::size_t floats = static_cast<std::size_t>(place_config_.rings) * stride;
     return {place_config_.rings, place_config_.angles, stride, s + 1, s + 1 + floats, s[0]};
+  }
+  // Place i's spectrum with its bfloat16 copy.
+  BirdsEyeKeySpectrumView spectrum(std::size_t i) const {
+    BirdsEyeKeySpectrumView v = spectrum(record(i));
+    v.rounded = reinterpret_cast<const std::uint16_t*>(rounded_.at(i));
+    return v;
   }
   BirdsEyePose pose(const PlaceQuery& q, const float* record) const {
     const double yaw = match_key_spectra(view(q.spectrum), spectrum(record)).yaw_rad;

@@ -148,17 +148,22 @@ LOOPSCAN_INLINE void shift_correlations_impl(const float* xr, const float* xi, c
 }
 
 // Every shift's correlation when `out` is given; else only the cross spectrum's bound on it
-// (spectrum_bound), from the place's bfloat16 copy where `Rounded`: no shift's correlation can
-// exceed it.
-template <int W, bool Rounded = false>
+// (spectrum_bound), from the place's bfloat16 copy where it has one: no shift's correlation
+// can exceed it (up to that copy's rounding).
+template <int W>
 LOOPSCAN_INLINE float key_correlations_impl(const BirdsEyeKeySpectrumView& q,
                                             const BirdsEyeKeySpectrumView& d, const ShiftTables& t,
                                             float* out) {
   alignas(64) float xr[kMaxAngles / 2 + kLanes], xi[kMaxAngles / 2 + kLanes];
-  cross_spectrum_impl<W, Rounded>(q, d, xr, xi);
   if (out) {
+    cross_spectrum_impl<W, false>(q, d, xr, xi);
     shift_correlations_impl<W>(xr, xi, t, out);
     return 0;
+  }
+  if (d.rounded) {
+    cross_spectrum_impl<W, true>(q, d, xr, xi);
+  } else {
+    cross_spectrum_impl<W, false>(q, d, xr, xi);
   }
   return spectrum_bound(xr, xi, t.terms, t.angles);
 }
@@ -189,32 +194,6 @@ float key_correlations(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectr
   static const auto kernel = key_correlations_base;
 #endif
   return kernel(q, d, t, out);
-}
-
-float rounded_bound_base(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
-                         const ShiftTables& t) {
-  return key_correlations_impl<16, true>(q, d, t, nullptr);
-}
-#if LOOPSCAN_HAVE_AVX2_CLONES
-LOOPSCAN_AVX2 float rounded_bound_avx2(const BirdsEyeKeySpectrumView& q,
-                                       const BirdsEyeKeySpectrumView& d, const ShiftTables& t) {
-  return key_correlations_impl<32, true>(q, d, t, nullptr);
-}
-LOOPSCAN_AVX512 float rounded_bound_avx512(const BirdsEyeKeySpectrumView& q,
-                                           const BirdsEyeKeySpectrumView& d, const ShiftTables& t) {
-  return key_correlations_impl<64, true>(q, d, t, nullptr);
-}
-#endif
-
-float rounded_bound(const BirdsEyeKeySpectrumView& q, const BirdsEyeKeySpectrumView& d,
-                    const ShiftTables& t) {
-#if LOOPSCAN_HAVE_AVX2_CLONES
-  static const auto kernel =
-      simd::widest(rounded_bound_avx512, rounded_bound_avx2, rounded_bound_base);
-#else
-  static const auto kernel = rounded_bound_base;
-#endif
-  return kernel(q, d, t);
 }
 
 void check_spectra(const BirdsEyeKeySpectrumView& query, const BirdsEyeKeySpectrumView& place) {
@@ -293,21 +272,16 @@ BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
       s.im[std::size_t(r) * s.stride + k] = float(im[k]);
     }
   }
-  return s;
-}
-
-std::vector<std::uint16_t> rounded_spectrum(const BirdsEyeKeySpectrum& spectrum) {
-  std::vector<std::uint16_t> out;
-  out.reserve(spectrum.re.size() + spectrum.im.size());
-  for (const std::vector<float>* part : {&spectrum.re, &spectrum.im}) {
+  s.rounded.reserve(s.re.size() + s.im.size());
+  for (const std::vector<float>* part : {&s.re, &s.im}) {
     for (float v : *part) {
       std::uint32_t bits;
       std::memcpy(&bits, &v, sizeof bits);
       bits += 0x7fffu + ((bits >> 16) & 1u);  // to nearest, ties to even (finite values)
-      out.push_back(std::uint16_t(bits >> 16));
+      s.rounded.push_back(std::uint16_t(bits >> 16));
     }
   }
-  return out;
+  return s;
 }
 
 BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
@@ -340,12 +314,12 @@ std::vector<std::pair<double, std::size_t>> nearest_keys(
     // Float sums may round a shift's correlation a little above the bound: widen it. A rounded
     // spectrum D' = D + E, |E_rk| <= 2^-8 |D_rk|, moves sum_k w_k |X_k| by at most
     // 2^-8 sum_k w_k sum_r |Q_rk| |D_rk| <= 2^-8 A |q| |d| (Cauchy-Schwarz, then Parseval).
-    double bound = 1.0;
-    if (norms > 0 && d.rounded) {
-      bound = 1.0 - 1.0001 * rounded_bound(query, d, t) / (query.angles * norms) - 0.004;
-    } else if (norms > 0) {
-      bound = 1.0 - 1.0001 * key_correlations(query, d, t, nullptr) / (query.angles * norms);
-    }
+    const double rounding = d.rounded ? 0.004 : 0.0;
+    const double bound =
+        norms > 0
+            ? 1.0 - 1.0001 * key_correlations(query, d, t, nullptr) / (query.angles * norms) -
+                  rounding
+            : 1.0;
     bounds.emplace_back(bound, i);
   }
   // Places in order of their bound (popped from a min-heap: the loop usually stops after a

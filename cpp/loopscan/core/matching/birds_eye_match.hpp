@@ -30,10 +30,12 @@ struct BirdsEyeKeySpectrum {
   int rings = 0, angles = 0, stride = 0;
   std::vector<float> re, im;  // rings x stride
   double norm = 0;
+  // re, then im, rounded to the nearest bfloat16 (a float's upper 16 bits; relative error
+  // <= 2^-8): half the bytes, what nearest_keys' bound reads.
+  std::vector<std::uint16_t> rounded;
 };
 BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles);
-// A spectrum held elsewhere (a database record). `rounded`, where given, is the same spectrum
-// as bfloat16 (rounding_spectrum): half the bytes, read by nearest_keys' bound.
+// A spectrum held elsewhere (a database record); `rounded` may be absent (null).
 struct BirdsEyeKeySpectrumView {
   int rings = 0, angles = 0, stride = 0;
   const float* re = nullptr;
@@ -41,11 +43,8 @@ struct BirdsEyeKeySpectrumView {
   double norm = 0;
   const std::uint16_t* rounded = nullptr;
 };
-// The spectrum's real parts, then its imaginary parts (rings x stride each), rounded to the
-// nearest bfloat16 (the upper 16 bits of a float; relative error <= 2^-8).
-std::vector<std::uint16_t> rounded_spectrum(const BirdsEyeKeySpectrum& spectrum);
 inline BirdsEyeKeySpectrumView view(const BirdsEyeKeySpectrum& s) {
-  return {s.rings, s.angles, s.stride, s.re.data(), s.im.data(), s.norm};
+  return {s.rings, s.angles, s.stride, s.re.data(), s.im.data(), s.norm, s.rounded.data()};
 }
 // Throws std::invalid_argument when the spectra differ in rings or angles.
 BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,

@@ -1,7 +1,6 @@
 // Bird's-eye difference-matrix rows: exact key distances to every place; the evaluation's rows
 // search the images of the query's key finalists (the two stages of birds_eye_match.hpp).
 #include <algorithm>
-#include <cstdint>
 #include <cstdlib>
 #include <limits>
 
@@ -20,8 +19,6 @@ class BirdsEyeMatcher final : public PlaceMatcher {
   void add(const Signature& place) override {
     places_.push_back(birds_eye_place(place, place_config_));
     spectra_.push_back(key_spectrum(places_.back(), place_config_.angles));
-    const std::vector<std::uint16_t> r = rounded_spectrum(spectra_.back());
-    rounded_.insert(rounded_.end(), r.begin(), r.end());
   }
   std::size_t size() const override { return places_.size(); }
   int components() const override { return 1; }
@@ -41,15 +38,10 @@ class BirdsEyeMatcher final : public PlaceMatcher {
             Eigen::MatrixXd& rows) const override {
     const BirdsEyePlace q = birds_eye_place(query, place_config_);
     const BirdsEyeKeySpectrum qs = key_spectrum(q, place_config_.angles);
-    const std::size_t per_place = qs.re.size() + qs.im.size();
     const auto finalists = nearest_keys(
         view(qs), places_.size(),
         [&](std::size_t j) { return std::abs(query_index - static_cast<int>(j)) >= mask_width; },
-        [&](std::size_t j) {
-          BirdsEyeKeySpectrumView v = view(spectra_[j]);
-          v.rounded = rounded_.data() + j * per_place;
-          return v;
-        },
+        [&](std::size_t j) { return view(spectra_[j]); },
         static_cast<std::size_t>(std::max(0, search_.finalists)));
     rows = Eigen::MatrixXd::Constant(1, static_cast<Eigen::Index>(places_.size()),
                                      std::numeric_limits<double>::infinity());
@@ -65,7 +57,6 @@ class BirdsEyeMatcher final : public PlaceMatcher {
   BirdsEyeSearchConfig search_;
   std::vector<BirdsEyePlace> places_;
   std::vector<BirdsEyeKeySpectrum> spectra_;
-  std::vector<std::uint16_t> rounded_;  // the spectra as bfloat16, place after place
 };
 
 }  // namespace
