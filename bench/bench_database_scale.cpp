@@ -1,6 +1,7 @@
 // The place database from 10^3 to 10^6 places (one thread), Scan Context (default) or the
-// bird's-eye place (--method bev), against Scan Context's own ring-key tree search
-// (scan_context_tree.hpp) on Scan Contexts of the same places.
+// bird's-eye place (--method bev: its indexed query ranks every place's key, as the exact one
+// does), against Scan Context's own ring-key tree search (scan_context_tree.hpp) on Scan
+// Contexts of the same places.
 //   build/bench/loopscan_bench_db_scale [--sizes 1000,10000,100000,1000000] [--method sc|bev]
 //       [--maps perturbed,sessions] [--storage compact|full] [--queries 100]
 //       [--oracle-max 1000000] [--baseline-oracle-max 100000]

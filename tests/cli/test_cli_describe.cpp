@@ -29,6 +29,8 @@ TEST(Cli, DescribeWritesTheContractFiles) {
     std::ifstream(d / method / "timing.json") >> timing;
     EXPECT_TRUE(timing.contains("imitate_ms"));
     EXPECT_TRUE(timing.contains("describe_ms"));
+    // Lateral versions are Scan Context's alone.
+    EXPECT_EQ(timing.contains("lateral_versions_m"), method == "sc") << method;
     std::ifstream sigs(d / method / "signatures.txt");
     std::string line;
     int rows = 0;

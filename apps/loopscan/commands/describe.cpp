@@ -194,13 +194,12 @@ void run_describe(const DescribeArgs& a) {
   }
 
   write_signatures(a.out, result, c);
-  const nlohmann::json timing = {
+  nlohmann::json timing = {
       {"method", method_text},
       {"mode", mode_name(c.mode)},
       {"range_m", options.imitation.range_m},
       {"lookahead_m", options.imitation.lookahead_m},
       {"frame", descriptor_frame_name(descriptor_frame(method, options.descriptors))},
-      {"lateral_versions_m", options.descriptors.scan_context.lateral_versions_m},
       {"filter", filter_for(method) == ScanFilter::Cartesian ? "cartesian" : "polar"},
       {"n_keyframes", poses.size()},
       {"n_signatures", result.signatures.size()},
@@ -212,6 +211,9 @@ void run_describe(const DescribeArgs& a) {
       {"mean_points_filtered", result.mean_filtered},
       {"points_non_finite_skipped", stats.non_finite_skipped},
       {"points_intensity_clamped", stats.intensity_clamped}};
+  if (method == Method::ScanContext) {  // the other methods describe each place once
+    timing["lateral_versions_m"] = options.descriptors.scan_context.lateral_versions_m;
+  }
   io::write_file_atomic(a.out + "/timing.json", timing.dump(1) + "\n");
   std::printf(
       "%s (%s): %zu signatures from %zu keyframes; %.3f ms imitate + %.3f ms describe "

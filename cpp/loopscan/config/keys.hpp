@@ -140,8 +140,7 @@ void visit_database(V& v, Configuration& c) {
     v.key("retrieval", q.retrieval, "indexed | exact (`db query --exact`)");
     v.key("candidates", q.candidates, closed(1, 1e6), "index candidates scored exactly");
     v.key("index_pool_factor", q.index_pool_factor, closed(1, 1000),
-          "places the coarse key scan hands to re-ranking (Scan Context) or key ranking (bev), "
-          "per candidate");
+          "Scan Context: places the coarse key scan hands to re-ranking, per candidate");
     v.key("stats_sample", q.stats_sample, closed(2, 1e6),
           "indexed fused scores: places sampled for the row's mean and deviation");
     v.key("refine", q.refine, closed(0, 1e6),

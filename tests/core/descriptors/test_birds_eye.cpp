@@ -81,20 +81,6 @@ BirdsEyePlace describe(const Scan& s, const BirdsEyePlaceConfig& config = {}) {
   return describe_birds_eye(s.x.data(), s.y.data(), s.z.data(), s.x.size(), config);
 }
 
-std::vector<float> summary_of(const BirdsEyePlace& place) {
-  return key_summary(view(key_spectrum(place, BirdsEyePlaceConfig{}.angles)));
-}
-
-// The squared distance of two summaries in the database index's integers (8191 for 1).
-std::uint32_t quantised_distance(const std::vector<float>& a, const std::vector<float>& b) {
-  std::uint32_t d = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const auto diff = std::int64_t(std::lround(a[i] * 8191)) - std::lround(b[i] * 8191);
-    d += std::uint32_t(diff * diff);
-  }
-  return d;
-}
-
 double angle_error(double a, double b) { return std::abs(std::remainder(a - b, 2 * M_PI)); }
 
 // The correlation of the query with the place turned by yaw and shifted by whole cells,
@@ -456,54 +442,6 @@ TEST(BirdsEyeMatch, NearestKeysAreTheHeadOfTheSortedKeyDistances) {
   }
 }
 
-// The key summary: unit length, the same for a place turned by any whole key angle, and half
-// its squared difference never above the key distance (places of streets, noise keys, an empty
-// key).
-TEST(BirdsEyeMatch, KeySummaryIsTurnInvariantAndBoundsTheKeyDistance) {
-  const BirdsEyePlaceConfig config;
-  const int A = config.angles;
-  std::vector<BirdsEyePlace> places;
-  std::mt19937 rng(9);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (unsigned w = 0; w < 3; ++w) {
-    const auto world = street_world(60 + w);
-    for (int k = 0; k < 12; ++k)
-      places.push_back(describe(scan_at(world, 3 * u(rng), 40 * u(rng), M_PI * u(rng))));
-  }
-  for (int k = 0; k < 4; ++k) {
-    BirdsEyePlace p = places[0];
-    for (auto& v : p.key) v = std::int8_t(int(rng() % 255) - 127);
-    places.push_back(p);
-  }
-  BirdsEyePlace empty = places[0];
-  std::fill(empty.key.begin(), empty.key.end(), std::int8_t(0));
-  places.push_back(empty);
-  ASSERT_EQ(key_summary_dims(config.rings, A), 64);
-  int tight = 0;
-  for (const BirdsEyePlace& q : places) {
-    const std::vector<float> sq = summary_of(q);
-    ASSERT_EQ(sq.size(), 64u);
-    double length = 0;
-    for (float v : sq) length += double(v) * v;
-    EXPECT_NEAR(length, &q == &places.back() ? 0.0 : 1.0, 1e-5);
-    BirdsEyePlace turned = q;  // the key's angles shifted by 7: the place turned 21 degrees
-    for (int r = 0; r < config.rings; ++r) {
-      for (int a = 0; a < A; ++a) turned.key[r * A + (a + 7) % A] = q.key[r * A + a];
-    }
-    const std::vector<float> st = summary_of(turned);
-    for (int i = 0; i < 64; ++i) EXPECT_NEAR(st[i], sq[i], 1e-5);
-    for (const BirdsEyePlace& d : places) {
-      const std::vector<float> sd = summary_of(d);
-      double bound = 0;
-      for (int i = 0; i < 64; ++i) bound += 0.5 * (double(sq[i]) - sd[i]) * (double(sq[i]) - sd[i]);
-      const double distance = match_keys(q, d, A).distance;
-      EXPECT_LE(bound, distance + 1e-6);
-      tight += bound > 0.5 * distance;
-    }
-  }
-  EXPECT_GT(tight, 0);  // the bound is not vacuous
-}
-
 TEST(BirdsEyeMatch, CorrelationEqualsTheOracle) {
   const auto world = street_world(5);
   const BirdsEyePlaceConfig config;
@@ -736,55 +674,20 @@ TEST(BirdsEyeMethod, DatabaseQueriesEqualTheirBruteForceOracles) {
     ASSERT_EQ(e.size(), 1u);
     EXPECT_EQ(e[0].index, std::size_t(best));
     EXPECT_NEAR(e[0].distance, image_distance(query, p.places[best]), 1e-9);
-    // Indexed, the summaries' pool covering the map: the exact answer.
-    QueryOptions covering;
-    covering.candidates = 4;  // pool 4 x 8 >= 30
-    // Indexed with a pool of 8: the finalists among the 8 places whose quantised key summaries
-    // lie nearest the query's (ties to the smaller index).
-    QueryOptions pooled;
-    pooled.candidates = 1;
-    pooled.index_pool_factor = 8;
-    const std::vector<float> qs = summary_of(query);
-    std::vector<std::pair<std::uint32_t, int>> by_summary;
-    for (int j = 0; j < 30; ++j) {
-      by_summary.emplace_back(quantised_distance(qs, summary_of(p.places[j])), j);
-    }
-    std::sort(by_summary.begin(), by_summary.end());
-    std::vector<std::pair<double, int>> pool_by_key;
-    for (int m = 0; m < 8; ++m) {
-      const int j = by_summary[m].second;
-      pool_by_key.emplace_back(match_keys(query, p.places[j], angles).distance, j);
-    }
-    std::sort(pool_by_key.begin(), pool_by_key.end());
-    int best_pooled = pool_by_key[0].second;
-    for (int f = 1; f < BirdsEyeSearchConfig{}.finalists; ++f) {
-      const int j = pool_by_key[f].second;
-      if (image_distance(query, p.places[j]) < image_distance(query, p.places[best_pooled])) {
-        best_pooled = j;
-      }
-    }
+    // Indexed: the best image distance among the key's best `candidates`.
+    QueryOptions indexed;
+    indexed.candidates = 4;
+    const int best_finalist = best_of_key_finalists(query, 4);
     for (const Database* d : {&db, &reloaded}) {
-      for (const auto& [options, expected] :
-           {std::pair{covering, best}, std::pair{pooled, best_pooled}}) {
-        const auto r = d->query({p.signatures[q]}, 1, options);
-        ASSERT_EQ(r.size(), 1u);
-        EXPECT_EQ(r[0].index, std::size_t(expected)) << q;
-        const BirdsEyePlace& place = p.places[expected];
-        const BirdsEyePose pose =
-            birds_eye_pose(query, place, match_keys(query, place, angles).yaw_rad, {}, {});
-        EXPECT_NEAR(r[0].x_m, pose.x_m, 1e-9);
-        EXPECT_NEAR(r[0].z_m, pose.z_m, 1e-9);
-        EXPECT_NEAR(r[0].yaw_rad, pose.yaw_rad, 1e-9);
-      }
-      // Every finalist: the key's best among the pool.
-      const int finalists = BirdsEyeSearchConfig{}.finalists;
-      const auto all = d->query({p.signatures[q]}, finalists, pooled);
-      std::vector<int> found, expected;
-      for (const Candidate& c : all) found.push_back(int(c.index));
-      for (int f = 0; f < finalists; ++f) expected.push_back(pool_by_key[f].second);
-      std::sort(found.begin(), found.end());
-      std::sort(expected.begin(), expected.end());
-      EXPECT_EQ(found, expected) << q;
+      const auto r = d->query({p.signatures[q]}, 1, indexed);
+      ASSERT_EQ(r.size(), 1u);
+      EXPECT_EQ(r[0].index, std::size_t(best_finalist));
+      const BirdsEyePlace& place = p.places[best_finalist];
+      const BirdsEyePose pose =
+          birds_eye_pose(query, place, match_keys(query, place, angles).yaw_rad, {}, {});
+      EXPECT_NEAR(r[0].x_m, pose.x_m, 1e-9);
+      EXPECT_NEAR(r[0].z_m, pose.z_m, 1e-9);
+      EXPECT_NEAR(r[0].yaw_rad, pose.yaw_rad, 1e-9);
     }
   }
 }

@@ -1,12 +1,10 @@
 // Bird's-eye places: the image and the key packed as bytes (the stored form, 5,040 bytes with
 // the default config), followed in memory by the key's angular spectrum; the spectra again as
-// bfloat16 in an arena of their own, for the key scan's bound. The exact query matches every
-// eligible place's key (a fraction of a microsecond a place) and the best become the finalists,
-// whose images the distance then searches (birds_eye_match.hpp), as in the difference-matrix
-// rows. The indexed query matches only the keys whose summaries (key_summary, 64 values that a
-// turn leaves alone) lie nearest the query's in a KeyScan: its cost stops growing with the map.
+// bfloat16 in an arena of their own, for the key scan's bound. Every eligible
+// place's key is matched (a fraction of a microsecond a place) and the best become the
+// finalists, whose images the distance then searches (birds_eye_match.hpp): the exact query and
+// the indexed one alike, as in the difference-matrix rows.
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <mutex>
@@ -14,7 +12,6 @@
 #include <string>
 #include <utility>
 
-#include "loopscan/core/database/key_scan.hpp"
 #include "loopscan/core/database/place_store.hpp"
 #include "loopscan/core/matching/birds_eye_match.hpp"
 
@@ -29,11 +26,9 @@ class BirdsEyeStore final : public PlaceStore {
                const BirdsEyeSearchConfig& search)
         : place(std::move(p)),
           spectrum(key_spectrum(place, config.angles)),
-          summary(quantised(key_summary(view(spectrum)))),
           images(place, config, search) {}
     BirdsEyePlace place;
     BirdsEyeKeySpectrum spectrum;
-    std::vector<std::uint16_t> summary;
     BirdsEyeImageSearch images;
     // The poses found by distances(), which ground_pose() then gives without a second search.
     mutable std::mutex mutex;
@@ -46,8 +41,7 @@ class BirdsEyeStore final : public PlaceStore {
         place_config_((validate(place), place)),
         search_(search),
         cells_(static_cast<std::size_t>(image_side(place)) * image_side(place)),
-        key_values_(static_cast<std::size_t>(place.rings) * place.angles),
-        summaries_(key_summary_dims(place.rings, place.angles)) {}
+        key_values_(static_cast<std::size_t>(place.rings) * place.angles) {}
 
   int components() const override { return 1; }
 
@@ -66,7 +60,6 @@ class BirdsEyeStore final : public PlaceStore {
     std::copy(s.im.begin(), s.im.end(), out + 1 + s.re.size());
     arena_.append(record.data());
     rounded_.append(reinterpret_cast<const float*>(s.rounded.data()));  // copied as bytes
-    summaries_.add(quantised(key_summary(view(s))).data());
   }
 
   void indexed_up_to(std::size_t) override {}  // the records hold the key spectra
@@ -89,28 +82,14 @@ class BirdsEyeStore final : public PlaceStore {
     return static_cast<std::size_t>(std::max(1, search_.finalists));
   }
 
-  // pool 0 (exact): every eligible place's key; otherwise the keys of the `pool` eligible
-  // places whose summaries lie nearest the query's.
-  void candidates(const Query& query, std::size_t count, std::size_t pool, const Eligible& eligible,
-                  std::size_t n_places, std::vector<std::size_t>& out) const override {
-    const auto& q = static_cast<const PlaceQuery&>(query);
+  void candidates(const Query& query, std::size_t count, std::size_t /*pool*/,
+                  const Eligible& eligible, std::size_t n_places,
+                  std::vector<std::size_t>& out) const override {
+    const auto nearest = nearest_keys(
+        view(static_cast<const PlaceQuery&>(query).spectrum), n_places, eligible,
+        [&](std::size_t i) { return spectrum(i); }, count);
     out.clear();
-    if (pool == 0 || n_places <= pool) {
-      for (const auto& [distance, i] : nearest_keys(
-               view(q.spectrum), n_places, eligible, [&](std::size_t i) { return spectrum(i); },
-               count)) {
-        out.push_back(i);
-      }
-      return;
-    }
-    std::vector<KeyScan::Neighbours> near;
-    summaries_.nearest(q.summary.data(), 1, pool, eligible, near);
-    const KeyScan::Neighbours& pooled = near.front();
-    for (const auto& [distance, j] : nearest_keys(
-             view(q.spectrum), pooled.size(), [](std::size_t) { return true; },
-             [&](std::size_t j) { return spectrum(pooled[j].second); }, count)) {
-      out.push_back(pooled[j].second);
-    }
+    for (const auto& [distance, i] : nearest) out.push_back(i);
   }
 
   std::optional<BirdsEyePose> ground_pose(const Query& query, const float* record) const override {
@@ -129,9 +108,7 @@ class BirdsEyeStore final : public PlaceStore {
     search_ = search;
   }
 
-  std::size_t index_bytes() const override {
-    return rounded_.memory_bytes() + summaries_.memory_bytes();
-  }
+  std::size_t index_bytes() const override { return rounded_.memory_bytes(); }
 
  private:
   static std::size_t payload_of(const BirdsEyePlaceConfig& c) {
@@ -174,14 +151,6 @@ class BirdsEyeStore final : public PlaceStore {
     v.rounded = reinterpret_cast<const std::uint16_t*>(rounded_.at(i));
     return v;
   }
-  // A summary in KeyScan's integers: its values are at most 1.
-  static std::vector<std::uint16_t> quantised(const std::vector<float>& summary) {
-    std::vector<std::uint16_t> out(summary.size());
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      out[i] = static_cast<std::uint16_t>(std::lround(summary[i] * KeyScan::kMaxKey));
-    }
-    return out;
-  }
   BirdsEyePose pose(const PlaceQuery& q, const float* record) const {
     const double yaw = match_key_spectra(view(q.spectrum), spectrum(record)).yaw_rad;
     return q.images.pose(unpack(record), yaw);
@@ -192,7 +161,6 @@ class BirdsEyeStore final : public PlaceStore {
   std::size_t cells_, key_values_;
   // Per place, its key spectrum as bfloat16, contiguous: what the key scan's bound streams.
   PayloadArena rounded_{rounded_floats(place_config_)};
-  KeyScan summaries_;  // per place, its key's summary
 };
 
 }  // namespace

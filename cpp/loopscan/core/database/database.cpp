@@ -144,13 +144,8 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
   std::vector<std::size_t> scored;
   const bool exact = options.retrieval == Retrieval::Exact;
   if (store_->finalists() > 0) {
-    // Bird's-eye places: the key's finalists (the distance's definition), among every eligible
-    // place's key (exact) or the index's pool of them.
-    const std::size_t pool =
-        exact ? 0
-              : static_cast<std::size_t>(std::max(1, options.candidates)) *
-                    static_cast<std::size_t>(std::max(1, options.index_pool_factor));
-    store_->candidates(*query, store_->finalists(), pool, eligible, n, scored);
+    // Bird's-eye places: the key's finalists, whichever the retrieval (the distance's definition).
+    store_->candidates(*query, store_->finalists(), 0, eligible, n, scored);
   } else if (exact) {
     for (std::size_t i = 0; i < limit; ++i) {
       if (eligible(i)) scored.push_back(i);

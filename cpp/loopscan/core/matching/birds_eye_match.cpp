@@ -299,39 +299,6 @@ BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
   return best;
 }
 
-namespace {
-constexpr int kSummaryGroups = 8;
-int ring_groups(int rings) { return std::min(rings, kSummaryGroups); }
-int frequency_bands(int angles) { return std::min(angles / 2 + 1, kSummaryGroups); }
-}  // namespace
-
-int key_summary_dims(int rings, int angles) { return ring_groups(rings) * frequency_bands(angles); }
-
-std::vector<float> key_summary(const BirdsEyeKeySpectrumView& spectrum) {
-  const int A = spectrum.angles, terms = A / 2 + 1;
-  const int groups = ring_groups(spectrum.rings), bands = frequency_bands(A);
-  std::vector<double> energy(std::size_t(groups) * bands, 0.0);
-  double total = 0;
-  for (int r = 0; r < spectrum.rings; ++r) {
-    const int g = r * groups / spectrum.rings;
-    for (int k = 0; k < terms; ++k) {
-      // Bands widen with the frequency (most of a key's energy is in its low terms).
-      const int b = std::min(bands - 1, int(bands * std::log1p(k) / std::log1p(terms)));
-      const double w = (k == 0 || 2 * k == A) ? 1.0 : 2.0;  // the conjugate half counts twice
-      const std::size_t at = std::size_t(r) * spectrum.stride + k;
-      const double e = w * (double(spectrum.re[at]) * spectrum.re[at] +
-                            double(spectrum.im[at]) * spectrum.im[at]);
-      energy[std::size_t(g) * bands + b] += e;
-      total += e;
-    }
-  }
-  std::vector<float> out(energy.size(), 0.f);
-  if (total > 0) {
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] = float(std::sqrt(energy[i] / total));
-  }
-  return out;
-}
-
 std::vector<std::pair<double, std::size_t>> nearest_keys(
     const BirdsEyeKeySpectrumView& query, std::size_t places,
     const std::function<bool(std::size_t)>& eligible,

@@ -64,16 +64,6 @@ std::vector<std::pair<double, std::size_t>> nearest_keys(
     const std::function<bool(std::size_t)>& eligible,
     const std::function<BirdsEyeKeySpectrumView(std::size_t)>& spectrum, std::size_t count);
 
-// A short summary of a key that turns of the place leave alone, for a nearest-neighbour index:
-// per group of rings and band of angular frequencies, the root of the spectrum's energy there,
-// as a share of the key's (|s| = 1; all zero for a key without structure). For any two keys,
-// match_key_spectra's distance is at least |s_query - s_place|^2 / 2: Cauchy-Schwarz bounds the
-// best shift's correlation by the dot product of the spectra's magnitudes, and summing the
-// magnitudes over groups only shortens their difference. Groups: min(rings, 8) x
-// min(A / 2 + 1, 8), ring-group major.
-int key_summary_dims(int rings, int angles);
-std::vector<float> key_summary(const BirdsEyeKeySpectrumView& spectrum);
-
 // The place in the query's camera frame on the ground plane: a place point (x, z) lies at
 // R(yaw) (x, z) + (x_m, z_m) in the query, R turning x towards z; yaw is about the camera's up
 // axis (-y), positive to the left, in (-pi, pi].

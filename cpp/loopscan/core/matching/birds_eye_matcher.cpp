@@ -1,6 +1,7 @@
 // Bird's-eye difference-matrix rows: exact key distances to every place; the evaluation's rows
 // search the images of the query's key finalists (the two stages of birds_eye_match.hpp).
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <limits>
 
@@ -18,7 +19,13 @@ class BirdsEyeMatcher final : public PlaceMatcher {
 
   void add(const Signature& place) override {
     places_.push_back(birds_eye_place(place, place_config_));
-    spectra_.push_back(key_spectrum(places_.back(), place_config_.angles));
+    const BirdsEyeKeySpectrum s = key_spectrum(places_.back(), place_config_.angles);
+    rings_ = s.rings;
+    stride_ = s.stride;
+    norms_.push_back(s.norm);
+    parts_.insert(parts_.end(), s.re.begin(), s.re.end());
+    parts_.insert(parts_.end(), s.im.begin(), s.im.end());
+    rounded_.insert(rounded_.end(), s.rounded.begin(), s.rounded.end());
   }
   std::size_t size() const override { return places_.size(); }
   int components() const override { return 1; }
@@ -28,7 +35,7 @@ class BirdsEyeMatcher final : public PlaceMatcher {
         key_spectrum(birds_eye_place(query, place_config_), place_config_.angles);
     rows.resize(1, static_cast<Eigen::Index>(places_.size()));
     for (std::size_t j = 0; j < places_.size(); ++j) {
-      rows(0, static_cast<Eigen::Index>(j)) = match_key_spectra(q, spectra_[j]).distance;
+      rows(0, static_cast<Eigen::Index>(j)) = match_key_spectra(view(q), spectrum(j)).distance;
     }
   }
 
@@ -41,22 +48,38 @@ class BirdsEyeMatcher final : public PlaceMatcher {
     const auto finalists = nearest_keys(
         view(qs), places_.size(),
         [&](std::size_t j) { return std::abs(query_index - static_cast<int>(j)) >= mask_width; },
-        [&](std::size_t j) { return view(spectra_[j]); },
+        [&](std::size_t j) { return spectrum(j); },
         static_cast<std::size_t>(std::max(0, search_.finalists)));
     rows = Eigen::MatrixXd::Constant(1, static_cast<Eigen::Index>(places_.size()),
                                      std::numeric_limits<double>::infinity());
     const BirdsEyeImageSearch images(q, place_config_, search_);
     for (const auto& [key_distance, j] : finalists) {
-      const double yaw = match_key_spectra(qs, spectra_[j]).yaw_rad;
+      const double yaw = match_key_spectra(view(qs), spectrum(j)).yaw_rad;
       rows(0, static_cast<Eigen::Index>(j)) = birds_eye_distance(images.pose(places_[j], yaw));
     }
   }
 
  private:
+  BirdsEyeKeySpectrumView spectrum(std::size_t j) const {
+    const std::size_t floats = static_cast<std::size_t>(rings_) * stride_;
+    return {rings_,
+            place_config_.angles,
+            stride_,
+            parts_.data() + 2 * j * floats,
+            parts_.data() + (2 * j + 1) * floats,
+            norms_[j],
+            rounded_.data() + 2 * j * floats};
+  }
+
   BirdsEyePlaceConfig place_config_;
   BirdsEyeSearchConfig search_;
   std::vector<BirdsEyePlace> places_;
-  std::vector<BirdsEyeKeySpectrum> spectra_;
+  // The places' key spectra, contiguous (what the key scan streams): per place its real then
+  // imaginary parts (rings x stride each), and the same again as bfloat16.
+  int rings_ = 0, stride_ = 0;
+  std::vector<double> norms_;
+  std::vector<float> parts_;
+  std::vector<std::uint16_t> rounded_;
 };
 
 }  // namespace
