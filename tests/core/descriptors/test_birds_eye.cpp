@@ -169,7 +169,7 @@ TEST(BirdsEyePlace, CellsHoldDensityOrHeight) {
   const int n = image_side(config), high = (30 + 5) * n + 30, low = (30 + 2) * n + 25;
   const BirdsEyePlace density = describe_birds_eye(x.data(), y.data(), z.data(), x.size(), config);
   EXPECT_EQ(density.image[low], 255);
-  EXPECT_EQ(density.image[high], 85);  // sqrt(1) / sqrt(9)
+  EXPECT_EQ(density.image[high], 61);  // log(1 + 1/2) / log(1 + 9/2) of 255: 60.65
   config.cell = BirdsEyeCell::Height;
   const BirdsEyePlace height = describe_birds_eye(x.data(), y.data(), z.data(), x.size(), config);
   EXPECT_EQ(height.image[high], 255);
@@ -206,7 +206,7 @@ TEST(BirdsEyePlace, InvalidConfigurationsAreRefused) {
   EXPECT_THROW(birds_eye_pose(a, cut, 0.0, c), std::invalid_argument);
 }
 
-// The place straight from its definition, in double precision: each cell's sqrt(count) or
+// The place straight from its definition, in double precision: each cell's log(1 + count / 2) or
 // height times its taper weight, scaled to 255 at the top cell; the key is log(1 + |DFT|) of
 // the image zero-padded to spectrum_size, by the sum over every cell, sampled bilinearly on
 // the polar grid, ring means removed and scaled to 127 at the largest magnitude.
@@ -227,7 +227,7 @@ OraclePlace oracle_place(const Scan& s, const BirdsEyePlaceConfig& c) {
   for (int r = 0; r < n; ++r) {
     for (int col = 0; col < n; ++col) {
       double& v = image[std::size_t(r) * n + col];
-      if (c.cell == BirdsEyeCell::Density) v = std::sqrt(v);
+      if (c.cell == BirdsEyeCell::Density) v = std::log1p(v / 2);
       const double d =
           std::hypot((col + 0.5) * c.cell_m - c.range_m, (r + 0.5) * c.cell_m - c.range_m);
       const double w =

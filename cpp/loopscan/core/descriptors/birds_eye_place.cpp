@@ -228,6 +228,10 @@ BirdsEyeDescriber::BirdsEyeDescriber(const BirdsEyePlaceConfig& config) : config
       weights_[std::size_t(r) * side_ + c] = float(s * s);
     }
   }
+  density_table_.resize(1024);
+  for (std::size_t n = 0; n < density_table_.size(); ++n) {
+    density_table_[n] = float(std::log1p(0.5 * double(n)));
+  }
   const int N = config.spectrum_size;
   band_ = int(std::ceil(config.max_frequency)) + 1;  // bilinear samples reach one bin out
   const int terms = band_ + 1;
@@ -303,7 +307,7 @@ std::vector<float> BirdsEyeDescriber::image(const float* x, const float* y, cons
   image.resize(cells);
   for (std::size_t i = 0; i < image.size(); ++i) {
     if (image[i] == 0.f) continue;
-    image[i] = (density ? std::sqrt(image[i]) : image[i]) * weights_[i];
+    image[i] = (density ? density_value(image[i]) : image[i]) * weights_[i];
   }
   return image;
 }

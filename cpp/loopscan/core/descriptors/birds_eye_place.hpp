@@ -17,9 +17,11 @@
 
 namespace loopscan {
 
-// What a cell of the image holds: the square root of its structure points (how much was seen
+// What a cell of the image holds: log(1 + n / 2) of its n structure points (how much was seen
 // there; the better within one season), or the height of its highest point over min_height_m
 // (what stands there, whatever the density of the VO's points; the better across seasons).
+// The logarithm is nearly linear in the few points a polar-filtered scan leaves in a cell and
+// compresses the many a dense VO or a summer tree leaves.
 enum class BirdsEyeCell { Density, Height };
 // "density" | "height"; parse throws std::invalid_argument on anything else.
 std::string birds_eye_cell_name(BirdsEyeCell cell);
@@ -83,6 +85,11 @@ class BirdsEyeDescriber {
  private:
   // The tapered cell values before quantisation.
   std::vector<float> image(const float* x, const float* y, const float* z, std::size_t n) const;
+  // A density cell's value for a count of points: log(1 + n / 2), from a table for small n.
+  float density_value(float count) const {
+    const auto n = static_cast<std::size_t>(count);
+    return n < density_table_.size() ? density_table_[n] : std::log1p(0.5f * count);
+  }
 
   // A key value: bilinear in the log-magnitude grid between four bins.
   struct KeySample {
@@ -93,6 +100,7 @@ class BirdsEyeDescriber {
   BirdsEyePlaceConfig config_;
   int side_ = 0;
   std::vector<float> weights_;  // per cell: 1 within taper_start_m, sin^2 down to 0 at taper_end_m
+  std::vector<float> density_table_;  // density_value of 0, 1, 2, ... points
   int band_ = 0;                // the key's samples reach frequencies up to band_ in u and |v|
   int stride_ = 0;              // band_ + 1 frequencies padded to whole vectors
   std::vector<float> row_table_;                // side x 2 stride: cos, then -sin (2 pi c v / N)
