@@ -37,7 +37,8 @@ class BirdsEyeStore final : public PlaceStore {
 
  public:
   BirdsEyeStore(const BirdsEyePlaceConfig& place, const BirdsEyeSearchConfig& search)
-      : PlaceStore(payload_of(place), payload_of(place) + spectrum_floats(place), 0),
+      : PlaceStore(payload_of(place),
+                   payload_of(place) + packed_key_spectrum_floats(place.rings, place.angles), 0),
         place_config_((validate(place), place)),
         search_(search),
         cells_(static_cast<std::size_t>(image_side(place)) * image_side(place)),
@@ -50,14 +51,12 @@ class BirdsEyeStore final : public PlaceStore {
   }
 
   void append(const float* payload) override {
-    std::vector<float> record(static_cast<std::size_t>(payload_floats()) +
-                              spectrum_floats(place_config_));
+    std::vector<float> record(
+        static_cast<std::size_t>(payload_floats()) +
+        packed_key_spectrum_floats(place_config_.rings, place_config_.angles));
     std::copy(payload, payload + payload_floats(), record.begin());
     const BirdsEyeKeySpectrum s = key_spectrum(unpack(payload), place_config_.angles);
-    float* out = record.data() + payload_floats();
-    out[0] = static_cast<float>(s.norm);
-    std::copy(s.re.begin(), s.re.end(), out + 1);
-    std::copy(s.im.begin(), s.im.end(), out + 1 + s.re.size());
+    pack_key_spectrum(s, record.data() + payload_floats());
     arena_.append(record.data());
     rounded_.append(reinterpret_cast<const float*>(s.rounded.data()));  // copied as bytes
   }
@@ -115,14 +114,6 @@ class BirdsEyeStore final : public PlaceStore {
     return floats_for_bytes(static_cast<std::size_t>(image_side(c)) * image_side(c) +
                             static_cast<std::size_t>(c.rings) * c.angles);
   }
-  // The norm, then the real and imaginary parts (rings x key_spectrum_stride each).
-  static std::size_t spectrum_floats(const BirdsEyePlaceConfig& c) {
-    return 1 + 2 * static_cast<std::size_t>(c.rings) * key_spectrum_stride(c.angles);
-  }
-  // Both parts again as bfloat16, two to a float.
-  static std::size_t rounded_floats(const BirdsEyePlaceConfig& c) {
-    return static_cast<std::size_t>(c.rings) * key_spectrum_stride(c.angles);
-  }
 
   void pack(const BirdsEyePlace& place, float* payload) const {
     auto* bytes = reinterpret_cast<unsigned char*>(payload);
@@ -139,17 +130,14 @@ class BirdsEyeStore final : public PlaceStore {
     std::memcpy(place.key.data(), bytes + cells_, key_values_);
     return place;
   }
+  // The spectrum packed after the payload (with place i's bfloat16 copy, by index).
   BirdsEyeKeySpectrumView spectrum(const float* record) const {
-    const float* s = record + payload_floats();
-    const int stride = key_spectrum_stride(place_config_.angles);
-    const std::size_t floats = static_cast<std::size_t>(place_config_.rings) * stride;
-    return {place_config_.rings, place_config_.angles, stride, s + 1, s + 1 + floats, s[0]};
+    return packed_key_spectrum(record + payload_floats(), place_config_.rings,
+                               place_config_.angles);
   }
-  // Place i's spectrum with its bfloat16 copy.
   BirdsEyeKeySpectrumView spectrum(std::size_t i) const {
-    BirdsEyeKeySpectrumView v = spectrum(record(i));
-    v.rounded = reinterpret_cast<const std::uint16_t*>(rounded_.at(i));
-    return v;
+    return packed_key_spectrum(record(i) + payload_floats(), place_config_.rings,
+                               place_config_.angles, rounded_.at(i));
   }
   BirdsEyePose pose(const PlaceQuery& q, const float* record) const {
     const double yaw = match_key_spectra(view(q.spectrum), spectrum(record)).yaw_rad;
@@ -160,7 +148,7 @@ class BirdsEyeStore final : public PlaceStore {
   BirdsEyeSearchConfig search_;
   std::size_t cells_, key_values_;
   // Per place, its key spectrum as bfloat16, contiguous: what the key scan's bound streams.
-  PayloadArena rounded_{rounded_floats(place_config_)};
+  PayloadArena rounded_{packed_rounded_floats(place_config_.rings, place_config_.angles)};
 };
 
 }  // namespace

@@ -284,6 +284,12 @@ BirdsEyeKeySpectrum key_spectrum(const BirdsEyePlace& place, int angles) {
   return s;
 }
 
+void pack_key_spectrum(const BirdsEyeKeySpectrum& spectrum, float* out) {
+  out[0] = static_cast<float>(spectrum.norm);
+  std::copy(spectrum.re.begin(), spectrum.re.end(), out + 1);
+  std::copy(spectrum.im.begin(), spectrum.im.end(), out + 1 + spectrum.re.size());
+}
+
 BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
                                    const BirdsEyeKeySpectrumView& place) {
   check_spectra(query, place);

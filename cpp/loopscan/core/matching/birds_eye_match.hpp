@@ -46,6 +46,29 @@ struct BirdsEyeKeySpectrumView {
 inline BirdsEyeKeySpectrumView view(const BirdsEyeKeySpectrum& s) {
   return {s.rings, s.angles, s.stride, s.re.data(), s.im.data(), s.norm, s.rounded.data()};
 }
+// A spectrum packed into floats, for keeping many contiguous (a PayloadArena record): the norm,
+// then the real and imaginary parts (rings x key_spectrum_stride(angles) each); the bfloat16
+// copy, two values to a float, in a record of its own.
+inline std::size_t packed_key_spectrum_floats(int rings, int angles) {
+  return 1 + 2 * static_cast<std::size_t>(rings) * key_spectrum_stride(angles);
+}
+inline std::size_t packed_rounded_floats(int rings, int angles) {
+  return static_cast<std::size_t>(rings) * key_spectrum_stride(angles);
+}
+void pack_key_spectrum(const BirdsEyeKeySpectrum& spectrum, float* out);
+// The view of a packed spectrum, with its packed bfloat16 copy where given (else null).
+inline BirdsEyeKeySpectrumView packed_key_spectrum(const float* packed, int rings, int angles,
+                                                   const float* rounded = nullptr) {
+  const int stride = key_spectrum_stride(angles);
+  const std::size_t floats = static_cast<std::size_t>(rings) * stride;
+  return {rings,
+          angles,
+          stride,
+          packed + 1,
+          packed + 1 + floats,
+          packed[0],
+          reinterpret_cast<const std::uint16_t*>(rounded)};
+}
 // Throws std::invalid_argument when the spectra differ in rings or angles.
 BirdsEyeKeyMatch match_key_spectra(const BirdsEyeKeySpectrumView& query,
                                    const BirdsEyeKeySpectrumView& place);

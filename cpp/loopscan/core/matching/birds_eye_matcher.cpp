@@ -1,11 +1,11 @@
 // Bird's-eye difference-matrix rows: exact key distances to every place; the evaluation's rows
 // search the images of the query's key finalists (the two stages of birds_eye_match.hpp).
 #include <algorithm>
-#include <cstdint>
 #include <cstdlib>
 #include <limits>
 
 #include "loopscan/core/matching/place_matcher.hpp"
+#include "loopscan/core/payload_arena.hpp"
 
 namespace loopscan {
 namespace {
@@ -20,12 +20,10 @@ class BirdsEyeMatcher final : public PlaceMatcher {
   void add(const Signature& place) override {
     places_.push_back(birds_eye_place(place, place_config_));
     const BirdsEyeKeySpectrum s = key_spectrum(places_.back(), place_config_.angles);
-    rings_ = s.rings;
-    stride_ = s.stride;
-    norms_.push_back(s.norm);
-    parts_.insert(parts_.end(), s.re.begin(), s.re.end());
-    parts_.insert(parts_.end(), s.im.begin(), s.im.end());
-    rounded_.insert(rounded_.end(), s.rounded.begin(), s.rounded.end());
+    std::vector<float> packed(spectra_.floats_per_record());
+    pack_key_spectrum(s, packed.data());
+    spectra_.append(packed.data());
+    rounded_.append(reinterpret_cast<const float*>(s.rounded.data()));  // copied as bytes
   }
   std::size_t size() const override { return places_.size(); }
   int components() const override { return 1; }
@@ -61,25 +59,17 @@ class BirdsEyeMatcher final : public PlaceMatcher {
 
  private:
   BirdsEyeKeySpectrumView spectrum(std::size_t j) const {
-    const std::size_t floats = static_cast<std::size_t>(rings_) * stride_;
-    return {rings_,
-            place_config_.angles,
-            stride_,
-            parts_.data() + 2 * j * floats,
-            parts_.data() + (2 * j + 1) * floats,
-            norms_[j],
-            rounded_.data() + 2 * j * floats};
+    return packed_key_spectrum(spectra_.at(j), place_config_.rings, place_config_.angles,
+                               rounded_.at(j));
   }
 
   BirdsEyePlaceConfig place_config_;
   BirdsEyeSearchConfig search_;
   std::vector<BirdsEyePlace> places_;
-  // The places' key spectra, contiguous (what the key scan streams): per place its real then
-  // imaginary parts (rings x stride each), and the same again as bfloat16.
-  int rings_ = 0, stride_ = 0;
-  std::vector<double> norms_;
-  std::vector<float> parts_;
-  std::vector<std::uint16_t> rounded_;
+  // The places' key spectra packed, and their bfloat16 copies, each contiguous as the
+  // database keeps them (what the key scan streams).
+  PayloadArena spectra_{packed_key_spectrum_floats(place_config_.rings, place_config_.angles)};
+  PayloadArena rounded_{packed_rounded_floats(place_config_.rings, place_config_.angles)};
 };
 
 }  // namespace
