@@ -6,15 +6,18 @@
 // session (10 m, mask 100), or a query session against a map session (25 m, no mask).
 //
 //   loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] [--in-range]
+//                            [--window START END] [--range R]
 //
-// K: the library default. Places are described from the scan `describe` and the Recognizer
-// describe (polar-filtered); --in-range describes every in-range point instead.
+// K, the weight window (m) and the image's range R (m): the library defaults. Places are described
+// from the scan `describe` and the Recognizer describe (polar-filtered); --in-range describes every
+// in-range point instead.
 //
 // Each directory holds poses_history_file.txt, pts_history_file.txt[.gz] and gt.txt.
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
@@ -181,10 +184,16 @@ int main(int argc, char** argv) {
   std::vector<std::string> dirs;
   int finalists = BirdsEyeSearchConfig{}.finalists;
   bool pipeline_scan = true;
+  BirdsEyePlaceConfig layout;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--finalists" && i + 1 < argc) {
       finalists = std::atoi(argv[++i]);
+    } else if (a == "--window" && i + 2 < argc) {
+      layout.taper_start_m = std::atof(argv[++i]);
+      layout.taper_end_m = std::atof(argv[++i]);
+    } else if (a == "--range" && i + 1 < argc) {
+      layout.range_m = std::atof(argv[++i]);
     } else if (a == "--in-range") {
       pipeline_scan = false;
     } else {
@@ -192,12 +201,14 @@ int main(int argc, char** argv) {
     }
   }
   if (dirs.empty() || dirs.size() > 2 || finalists < 1) {
-    std::fprintf(stderr, "usage: loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] "
-                 "[--in-range]\n");
+    std::fprintf(stderr,
+                 "usage: loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] "
+                 "[--in-range] [--window START END] [--range R]\n");
     return 2;
   }
   try {
-    std::array<BirdsEyePlaceConfig, 2> configs;
+    validate(layout);
+    std::array<BirdsEyePlaceConfig, 2> configs{layout, layout};
     configs[kHeight].cell = BirdsEyeCell::Height;
     const bool cross = dirs.size() == 2;
     const Session db = load(dirs[0], configs, pipeline_scan);

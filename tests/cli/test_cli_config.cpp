@@ -181,6 +181,11 @@ TEST(CliConfig, BirdsEyeLayoutTravelsWithTheSignatures) {
   ASSERT_EQ(r.code, 0) << r.output;
   r = run(describe(d, "bev", "", d / "default"));
   ASSERT_EQ(r.code, 0) << r.output;
+  // Another weight window alone is another layout too.
+  const std::string flat = config(d, "flat", "descriptors:\n  birds_eye:\n    taper_start_m: 28\n");
+  r = run(describe(d, "bev", flat, d / "flat"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(file_bytes(d / "flat/config.yaml").find("    taper_start_m: 28"), std::string::npos);
   // 32 x 32 cells + 16 x 40 key values a place, against 60 x 60 + 24 x 60.
   const std::string first = read_lines(d / "small/signatures.txt").front();
   EXPECT_EQ(std::count(first.begin(), first.end(), ' ') + 1, 32 * 32 + 16 * 40);
@@ -208,8 +213,21 @@ TEST(CliConfig, BirdsEyeLayoutTravelsWithTheSignatures) {
           (d / "default").string() + " --gt2 " + (d / "gt.txt").string() + " --out " +
           (d / "bad").string());
   EXPECT_EQ(r.code, 2) << r.output;
-  EXPECT_NE(r.output.find("differ in cell_m, range_m, rings or angles"), std::string::npos)
+  EXPECT_NE(r.output.find("differ in cell_m, range_m, taper_start_m, taper_end_m, rings or angles"),
+            std::string::npos)
       << r.output;
+  r = run("evaluate --signatures " + (d / "flat").string() + gt + " --against " +
+          (d / "default").string() + " --gt2 " + (d / "gt.txt").string() + " --out " +
+          (d / "bad2").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  // A map of one window refuses queries described with another.
+  r = run("db build --signatures " + (d / "flat").string() + gt + " --out " +
+          (d / "flat.db").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  r = run("db query --db " + (d / "flat.db").string() + " --signatures " +
+          (d / "default").string() + " --exact --k 1 --out " + (d / "q2").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("taper_start_m"), std::string::npos) << r.output;
   fs::remove_all(d);
 }
 

@@ -153,10 +153,10 @@ class PatchedDatabase : public BadValues {
   std::string load_error(const std::string& path) {
     return error_of([&] { load_database(path); });
   }
-  // Header 83 bytes (version 5); a place: session, keyframe, pose flag, frame (9 f32), pose
-  // (12 f64), payload.
-  static constexpr std::size_t kMode = 44, kFrameKind = 45, kPlace = 83, kFrame = kPlace + 9,
-                               kPose = kFrame + 36, kPayload = kPose + 96;
+  // Header 99 bytes (version 6; the bird's-eye weight window at 71 and 79); a place: session,
+  // keyframe, pose flag, frame (9 f32), pose (12 f64), payload.
+  static constexpr std::size_t kMode = 44, kFrameKind = 45, kWindow = 71, kPlace = 99,
+                               kFrame = kPlace + 9, kPose = kFrame + 36, kPayload = kPose + 96;
 };
 
 TEST_F(PatchedDatabase, ValidChecksumButImpossibleValuesAreRejected) {
@@ -176,6 +176,8 @@ TEST_F(PatchedDatabase, ValidChecksumButImpossibleValuesAreRejected) {
       << load_error(patched(kMode, std::uint8_t{2}));
   EXPECT_TRUE(has(load_error(patched(kFrameKind, std::uint8_t{4})), "frame kind 4"));
   EXPECT_TRUE(has(load_error(patched(kFrameKind + 1, std::uint8_t{2})), "cell kind 2"));
+  const std::string window = load_error(patched(kWindow, std::nan("")));
+  EXPECT_TRUE(has(window, "taper_end_m must exceed taper_start_m")) << window;
   EXPECT_FALSE(load_database(patched(kMode, std::uint8_t{255})).config().mode.has_value());
 }
 

@@ -163,11 +163,11 @@ TEST_F(DatabaseFile, WrongVersionMagicAndParametersHaveClearErrors) {
     }
     return std::string("loaded");
   };
-  std::string v6 = good;
-  v6[8] = 6;
-  EXPECT_NE(message(v6).find("format version 6, this build reads versions 1 to 5"),
+  std::string v7 = good;
+  v7[8] = 7;
+  EXPECT_NE(message(v7).find("format version 7, this build reads versions 1 to 6"),
             std::string::npos)
-      << message(v6);
+      << message(v7);
   std::string storage = good;
   storage[40] = 7;  // the storage field after the header's columns
   EXPECT_NE(message(storage).find("place storage 7"), std::string::npos) << message(storage);
@@ -235,8 +235,9 @@ TEST_F(DatabaseFile, PlaceCloudsRoundTripToTheCentimetreAndVersion1StillLoads) {
   std::string v1 = read_bytes(path("n.db"));
   v1[8] = 1;
   v1.erase(v1.size() - 5, 1);  // the cloud flag before the checksum
-  // The storage field (version 3), mode and frame (version 4), bird's-eye layout (version 5).
-  v1.erase(40, 6 + 25);
+  // The storage field (version 3), mode and frame (version 4), bird's-eye layout (version 5)
+  // and its weight window (version 6).
+  v1.erase(40, 6 + 25 + 16);
   const auto crc = static_cast<std::uint32_t>(
       crc32(0L, reinterpret_cast<const Bytef*>(v1.data()), static_cast<uInt>(v1.size() - 4)));
   std::memcpy(&v1[v1.size() - 4], &crc, 4);

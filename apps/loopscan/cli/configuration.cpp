@@ -143,8 +143,8 @@ Configuration resolve_configuration(const ConfigFlags& flags,
     if (!d.birds_eye) continue;
     if (layout && !same_layout(*d.birds_eye, *layout->birds_eye)) {
       throw std::invalid_argument("bird's-eye places of " + layout->source + " and " + d.source +
-                                  " differ in cell_m, range_m, rings or angles, or in the cell "
-                                  "kind: they do not compare");
+                                  " differ in cell_m, range_m, taper_start_m, taper_end_m, "
+                                  "rings or angles, or in the cell kind: they do not compare");
     }
     layout = &d;
   }

@@ -92,6 +92,9 @@ void visit_descriptors(V& v, Configuration& c) {
           "point; the better across seasons)");
     v.key("cell_m", b.cell_m, closed(0.05, 10), "image cell (m)");
     v.key("range_m", b.range_m, closed(1, 200), "the image spans [-range_m, range_m] in x and z");
+    v.key("taper_start_m", b.taper_start_m, closed(0, 400),
+          "cell weights fall smoothly from 1 here to 0 at taper_end_m (m from the keyframe)");
+    v.key("taper_end_m", b.taper_end_m, closed(0, 400), "the image's radius (m)");
     v.key("rings", b.rings, closed(1, 256), "key radii");
     v.key("angles", b.angles, closed(2, 720), "key angles over [0, pi): the key's yaw resolution");
     v.section("search", "matching: key ranking, then an image search of the finalists", [&] {

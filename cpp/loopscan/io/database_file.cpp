@@ -18,8 +18,10 @@ namespace {
 
 constexpr char kMagic[8] = {'L', 'O', 'O', 'P', 'S', 'C', 'D', 'B'};
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 4 + 8 + 4 + 4 + 4 + 4 + 8;
-// Version 5: the bird's-eye layout (cell kind, cell_m, range_m, rings, angles).
+// Version 5: the bird's-eye layout (cell kind, cell_m, range_m, rings, angles); version 6 adds
+// its weight window (taper_start_m, taper_end_m).
 constexpr std::size_t kBirdsEyeLayoutBytes = 1 + 8 + 8 + 4 + 4;
+constexpr std::size_t kBirdsEyeWindowBytes = 8 + 8;
 constexpr std::size_t kPlaceFixedBytes = 4 + 4 + 1 + 9 * 4;
 constexpr std::size_t kPoseBytes = 12 * 8;
 constexpr std::size_t kMaxCloudPoints = std::size_t(1) << 20;
@@ -33,7 +35,9 @@ std::string describe(const DatabaseConfig& c) {
          (c.method == Method::BirdsEye
               ? ", bird's-eye " + birds_eye_cell_name(c.birds_eye.cell) + " cells of " +
                     std::to_string(c.birds_eye.cell_m) + " m to " +
-                    std::to_string(c.birds_eye.range_m) + " m, key " +
+                    std::to_string(c.birds_eye.range_m) + " m weighed from " +
+                    std::to_string(c.birds_eye.taper_start_m) + " to " +
+                    std::to_string(c.birds_eye.taper_end_m) + " m, key " +
                     std::to_string(c.birds_eye.rings) + "x" + std::to_string(c.birds_eye.angles)
               : "");
 }
@@ -144,6 +148,8 @@ void save_database(const Database& db, const std::string& path,
   w.put<double>(c.birds_eye.range_m);
   w.put<std::int32_t>(c.birds_eye.rings);
   w.put<std::int32_t>(c.birds_eye.angles);
+  w.put<double>(c.birds_eye.taper_start_m);
+  w.put<double>(c.birds_eye.taper_end_m);
   w.put<std::uint32_t>(static_cast<std::uint32_t>(db.payload_floats()));
   w.put<std::uint64_t>(db.size());
   std::vector<float> payload(static_cast<std::size_t>(db.payload_floats()));
@@ -256,6 +262,18 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
     c.birds_eye.rings = r.get<std::int32_t>("the bird's-eye key rings");
     c.birds_eye.angles = r.get<std::int32_t>("the bird's-eye key angles");
   }
+  if (version >= 6) {
+    c.birds_eye.taper_start_m = r.get<double>("the bird's-eye weights' start");
+    c.birds_eye.taper_end_m = r.get<double>("the bird's-eye weights' end");
+  } else if (version == 5) {  // the window version 5's places were described with
+    c.birds_eye.taper_start_m = 10.0;
+    c.birds_eye.taper_end_m = 30.0;
+  }
+  try {  // whatever the method: no impossible layout is loaded
+    validate(c.birds_eye);
+  } catch (const std::invalid_argument& e) {
+    r.fail(e.what());
+  }
   if (expected && !same_parameters(c, *expected)) {
     r.fail("built with " + describe(c) + ", expected " + describe(*expected));
   }
@@ -275,7 +293,8 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
   // The size must fit the count before anything is allocated for it.
   const std::uintmax_t record = kPlaceFixedBytes + std::uintmax_t(floats) * 4;
   const std::size_t header = kHeaderBytes + (version >= 3 ? 4 : 0) + (version >= 4 ? 2 : 0) +
-                             (version >= 5 ? kBirdsEyeLayoutBytes : 0);
+                             (version >= 5 ? kBirdsEyeLayoutBytes : 0) +
+                             (version >= 6 ? kBirdsEyeWindowBytes : 0);
   const std::uintmax_t body = file_size - header;
   if (file_size < header + 4 || count > (body - 4) / record) {
     r.fail("the file is too short for " + std::to_string(count) + " places (truncated?)");

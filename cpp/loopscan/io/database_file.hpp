@@ -23,7 +23,7 @@
 
 namespace loopscan::io {
 
-inline constexpr unsigned kDatabaseFileVersion = 5;
+inline constexpr unsigned kDatabaseFileVersion = 6;
 
 // `clouds` (optional): one per place, saved with it (points rounded to 1 cm; farther than
 // 327 m from the keyframe: std::invalid_argument).

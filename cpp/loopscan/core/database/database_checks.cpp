@@ -43,8 +43,8 @@ void require_same_description(const DatabaseConfig& map, const DatabaseConfig& o
            (map.frame ? descriptor_frame_name(*map.frame) : "") + " frame, this describes in the " +
            (own.frame ? descriptor_frame_name(*own.frame) : "") + " frame");
   need(map.method != Method::BirdsEye || same_layout(map.birds_eye, own.birds_eye), who,
-       "the map's bird's-eye places have another layout (cell kind, cell_m, range_m, rings, "
-       "angles) than this describes");
+       "the map's bird's-eye places have another layout (cell kind, cell_m, range_m, "
+       "taper_start_m, taper_end_m, rings, angles) than this describes");
 }
 
 void validate(const QueryOptions& o, int k) {

@@ -31,8 +31,11 @@ struct BirdsEyePlaceConfig {
   BirdsEyeCell cell = BirdsEyeCell::Density;
   double cell_m = 1.0;
   double range_m = 30.0;        // the image spans [-range_m, range_m] in x and z
-  double taper_start_m = 10.0;  // cell weights fall smoothly to zero from here to taper_end_m
-  double taper_end_m = 30.0;    // near structure is what two drives of a place share
+  // Cell weights fall smoothly from 1 at taper_start_m to 0 at taper_end_m: a round window, so
+  // that a turned place moves its key along the angles. Near structure weighs most: it fixes
+  // the pose along a street; a flatter window recognises more but slides along corridors.
+  double taper_start_m = 10.0;
+  double taper_end_m = 30.0;
   double min_height_m = -1.0;   // structure: points above this height over the camera (up +)
   int spectrum_size = 128;      // the image is zero-padded to this side for the transform
   int rings = 24;               // key radii, evenly spaced over [min_frequency, max_frequency]
@@ -43,16 +46,17 @@ struct BirdsEyePlaceConfig {
 
 // Throws std::invalid_argument naming the first bad field.
 void validate(const BirdsEyePlaceConfig& config);
-// Whether places of the two configurations compare: the same cell kind, cell size, range and
-// key rings and angles (what a signature's meaning and width depend on).
+// Whether places of the two configurations compare: the same cell kind, cell size, range,
+// weight window and key rings and angles (the configurable fields a signature's meaning and
+// width depend on).
 inline bool same_layout(const BirdsEyePlaceConfig& a, const BirdsEyePlaceConfig& b) {
-  return a.cell == b.cell && a.cell_m == b.cell_m && a.range_m == b.range_m && a.rings == b.rings &&
-         a.angles == b.angles;
+  return a.cell == b.cell && a.cell_m == b.cell_m && a.range_m == b.range_m &&
+         a.taper_start_m == b.taper_start_m && a.taper_end_m == b.taper_end_m &&
+         a.rings == b.rings && a.angles == b.angles;
 }
 // Whether the two describe alike: the layout and every other field.
 inline bool same_description(const BirdsEyePlaceConfig& a, const BirdsEyePlaceConfig& b) {
-  return same_layout(a, b) && a.taper_start_m == b.taper_start_m &&
-         a.taper_end_m == b.taper_end_m && a.min_height_m == b.min_height_m &&
+  return same_layout(a, b) && a.min_height_m == b.min_height_m &&
          a.spectrum_size == b.spectrum_size && a.min_frequency == b.min_frequency &&
          a.max_frequency == b.max_frequency;
 }
