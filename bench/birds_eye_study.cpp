@@ -6,9 +6,10 @@
 // session (10 m, mask 100), or a query session against a map session (25 m, no mask).
 //
 //   loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] [--in-range]
-//                            [--window START END] [--range R]
+//                            [--window START END] [--pose-window START END] [--range R]
 //
-// K, the weight window (m) and the image's range R (m): the library defaults. Places are described
+// K, the weight windows of the images and of the pose search (m), and the image's range R
+// (m): the library defaults. Places are described
 // from the scan `describe` and the Recognizer describe (polar-filtered); --in-range describes every
 // in-range point instead.
 //
@@ -131,7 +132,8 @@ struct CellResult {
 
 CellResult evaluate_cells(int cell, const Session& queries, const Session& db, bool cross,
                           const eval::Protocol& protocol, const BirdsEyePlaceConfig& config,
-                          int finalists) {
+                          const BirdsEyeSearchConfig& search) {
+  const int finalists = search.finalists;
   const int nq = int(queries.positions.size()), nd = int(db.positions.size());
   CellResult out;
   out.by_key.assign(nq, {0, 0, std::numeric_limits<double>::infinity()});
@@ -165,7 +167,7 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
       for (int f = 0; f < k; ++f) {
         const int j = keyed[f].second;
         const BirdsEyePose pose =
-            birds_eye_pose(queries.places[cell][i], db.places[cell][j], yaw[j], config);
+            birds_eye_pose(queries.places[cell][i], db.places[cell][j], yaw[j], config, search);
         if (1.0 - pose.score < out.by_image[i].distance) out.by_image[i] = {i, j, 1.0 - pose.score};
         ++searched[t];
       }
@@ -182,7 +184,8 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
 
 int main(int argc, char** argv) {
   std::vector<std::string> dirs;
-  int finalists = BirdsEyeSearchConfig{}.finalists;
+  BirdsEyeSearchConfig search;
+  int& finalists = search.finalists;
   bool pipeline_scan = true;
   BirdsEyePlaceConfig layout;
   for (int i = 1; i < argc; ++i) {
@@ -192,6 +195,9 @@ int main(int argc, char** argv) {
     } else if (a == "--window" && i + 2 < argc) {
       layout.taper_start_m = std::atof(argv[++i]);
       layout.taper_end_m = std::atof(argv[++i]);
+    } else if (a == "--pose-window" && i + 2 < argc) {
+      search.pose_window_start_m = std::atof(argv[++i]);
+      search.pose_window_end_m = std::atof(argv[++i]);
     } else if (a == "--range" && i + 1 < argc) {
       layout.range_m = std::atof(argv[++i]);
     } else if (a == "--in-range") {
@@ -203,11 +209,12 @@ int main(int argc, char** argv) {
   if (dirs.empty() || dirs.size() > 2 || finalists < 1) {
     std::fprintf(stderr,
                  "usage: loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] "
-                 "[--in-range] [--window START END] [--range R]\n");
+                 "[--in-range] [--window START END] [--pose-window START END] [--range R]\n");
     return 2;
   }
   try {
     validate(layout);
+    validate(search, layout);
     std::array<BirdsEyePlaceConfig, 2> configs{layout, layout};
     configs[kHeight].cell = BirdsEyeCell::Height;
     const bool cross = dirs.size() == 2;
@@ -222,7 +229,7 @@ int main(int argc, char** argv) {
     std::array<CellResult, 2> results;
     const std::string image = ", image search on " + std::to_string(finalists) + " finalists";
     for (int c : {kDensity, kHeight}) {
-      results[c] = evaluate_cells(c, queries, db, cross, protocol, configs[c], finalists);
+      results[c] = evaluate_cells(c, queries, db, cross, protocol, configs[c], search);
       report(std::string(kCellNames[c]) + " cells, key", results[c].by_key, queries, db, protocol);
       report(std::string(kCellNames[c]) + " cells" + image, results[c].by_image, queries, db,
              protocol);

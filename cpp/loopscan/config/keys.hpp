@@ -108,6 +108,10 @@ void visit_descriptors(V& v, Configuration& c) {
             "shifts first searched on cells merged this many a side (1: every shift in full)");
       v.key("refined_peaks", f.refined_peaks, closed(1, 100),
             "coarse peaks searched again at full resolution");
+      v.key("pose_window_start_m", f.pose_window_start_m, closed(0, 400),
+            "the pose is searched on images weighed from 1 here to 0 at pose_window_end_m, and "
+            "scored on the images as stored");
+      v.key("pose_window_end_m", f.pose_window_end_m, closed(0, 400), "(m from the keyframe)");
     });
   });
 }

@@ -7,6 +7,7 @@
 #include <complex>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -85,8 +86,12 @@ double angle_error(double a, double b) { return std::abs(std::remainder(a - b, 2
 
 // The correlation of the query with the place turned by yaw and shifted by whole cells,
 // summed over every query cell with the place image sampled where that cell comes from.
-double oracle_correlation(const BirdsEyePlace& q, const BirdsEyePlace& d, double yaw, int dx,
-                          int dz, const BirdsEyePlaceConfig& config) {
+// `weight` (of a cell's distance from the keyframe) weighs both the query's cells and the
+// turned place's.
+double oracle_correlation(
+    const BirdsEyePlace& q, const BirdsEyePlace& d, double yaw, int dx, int dz,
+    const BirdsEyePlaceConfig& config,
+    const std::function<double(double)>& weight = [](double) { return 1.0; }) {
   const int n = q.side;
   auto place_at = [&](double x, double z) {  // bilinear over cell centres, zero outside
     const double fc = (x + config.range_m) / config.cell_m - 0.5;
@@ -106,15 +111,16 @@ double oracle_correlation(const BirdsEyePlace& q, const BirdsEyePlace& d, double
     for (int c = 0; c < n; ++c) {
       const double x = (c + 0.5) * config.cell_m - config.range_m;
       const double z = (r + 0.5) * config.cell_m - config.range_m;
-      const double turned = place_at(cy * x + sy * z, -sy * x + cy * z);  // place at R^T p
+      // The place at R^T p.
+      const double turned = weight(std::hypot(x, z)) * place_at(cy * x + sy * z, -sy * x + cy * z);
       dd += turned * turned;
-      const double qv = q.image[r * n + c];
+      const double qv = weight(std::hypot(x, z)) * q.image[r * n + c];
       qq += qv * qv;
       const int sr = r - dz, sc = c - dx;  // the turned place's cell that lands on (r, c)
       if (sr < 0 || sr >= n || sc < 0 || sc >= n) continue;
       const double xs = (sc + 0.5) * config.cell_m - config.range_m;
       const double zs = (sr + 0.5) * config.cell_m - config.range_m;
-      dot += qv * place_at(cy * xs + sy * zs, -sy * xs + cy * zs);
+      dot += qv * weight(std::hypot(xs, zs)) * place_at(cy * xs + sy * zs, -sy * xs + cy * zs);
     }
   }
   return qq > 0 && dd > 0 ? dot / std::sqrt(qq * dd) : 0.0;
@@ -307,13 +313,16 @@ TEST(BirdsEyePlace, DescriptionEqualsTheDefinitionWithinRounding) {
   }
 }
 
-// A turn of the place shifts its key: the key's yaw is the turn modulo pi, and a translation
-// barely changes the key.
+// A turn of the place shifts its key: the key's yaw is the turn modulo pi, and the turned key
+// lies far nearer the place's than another street's does (the image's cells do not turn with
+// it, so not exactly on it); a translation barely changes the key.
 TEST(BirdsEyePlace, KeyGivesTheYawAndIgnoresTranslation) {
   const auto world = street_world(3);
   const BirdsEyePlaceConfig config;
   const double step = M_PI / config.angles;
   const BirdsEyePlace place = describe(scan_at(world, 0, 0, 0));
+  const double elsewhere =
+      match_keys(describe(scan_at(street_world(11), 0, 0, 0)), place, config.angles).distance;
   for (int k = 0; k < 12; ++k) {
     const double psi = -M_PI + k * 2 * M_PI / 12 + 0.01;
     const BirdsEyePlace query = describe(scan_at(world, 0, 0, psi));
@@ -321,12 +330,10 @@ TEST(BirdsEyePlace, KeyGivesTheYawAndIgnoresTranslation) {
     // The place's yaw in the query frame is -psi (see BirdsEyePose), modulo pi.
     const double err = std::min(angle_error(m.yaw_rad, -psi), angle_error(m.yaw_rad, -psi + M_PI));
     EXPECT_LE(err, 1.01 * step) << "psi " << psi;
-    EXPECT_LT(m.distance, 0.1) << "psi " << psi;
+    EXPECT_LT(m.distance, 0.2 * elsewhere) << "psi " << psi;
   }
   const BirdsEyePlace moved = describe(scan_at(world, 3.5, 4.0, 0));
-  const BirdsEyePlace elsewhere = describe(scan_at(street_world(11), 0, 0, 0));
-  EXPECT_LT(match_keys(moved, place, config.angles).distance,
-            0.5 * match_keys(elsewhere, place, config.angles).distance);
+  EXPECT_LT(match_keys(moved, place, config.angles).distance, 0.5 * elsewhere);
 }
 
 // The key correlation at one shift, straight from the definition: q[a] against d[a - shift].
@@ -467,47 +474,114 @@ TEST(BirdsEyeMatch, CorrelationEqualsTheOracle) {
 // Revisits from any direction, up to 4 m aside and 6 m along: the pose search, which tries
 // only the key's yaw and the yaw plus pi, finds the best pose of a brute-force search over
 // every yaw (a key angle apart) and every whole-cell shift, and that pose is the truth.
+// With the default windows (the pose searched on the stored images) and with a flat stored
+// window whose pose is searched on near-weighed images.
 TEST(BirdsEyeMatch, PoseSearchMatchesBruteForceAndTheTruth) {
-  const BirdsEyePlaceConfig config;
-  BirdsEyeSearchConfig search;
-  search.max_shift_m = 8.0;
-  const int m = 8;
-  const double step = M_PI / config.angles;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (int trial = 0; trial < 6; ++trial) {
-    const auto world = street_world(20 + trial);
-    const double psi_p = M_PI * u(rng), psi_q = M_PI * u(rng);
-    const double pz = 10 * u(rng), qx = 4 * u(rng), qz = pz + 6 * u(rng);
-    const BirdsEyePlace place = describe(scan_at(world, 0, pz, psi_p));
-    const BirdsEyePlace query = describe(scan_at(world, qx, qz, psi_q));
-    const BirdsEyeKeyMatch key = match_keys(query, place, config.angles);
-    const BirdsEyePose found = birds_eye_pose(query, place, key.yaw_rad, config, search);
-    double best = -1, best_yaw = 0;
-    int best_dx = 0, best_dz = 0;
-    for (int k = 0; k < 2 * config.angles; ++k) {
-      const std::vector<double> corr = birds_eye_correlation(query, place, k * step, config, m);
-      for (int i = 0; i < int(corr.size()); ++i) {
-        if (corr[i] > best) {
-          best = corr[i], best_yaw = k * step;
-          best_dx = i % (2 * m + 1) - m, best_dz = i / (2 * m + 1) - m;
+  BirdsEyePlaceConfig flat;
+  flat.taper_start_m = 28;
+  BirdsEyeSearchConfig near;
+  near.pose_window_start_m = 10;
+  near.pose_window_end_m = 30;
+  for (const auto& [config, base] :
+       {std::pair{BirdsEyePlaceConfig{}, BirdsEyeSearchConfig{}}, std::pair{flat, near}}) {
+    BirdsEyeSearchConfig search = base;
+    search.max_shift_m = 8.0;
+    const int m = 8;
+    const double step = M_PI / config.angles;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int trial = 0; trial < 6; ++trial) {
+      const auto world = street_world(20 + trial);
+      const double psi_p = M_PI * u(rng), psi_q = M_PI * u(rng);
+      const double pz = 10 * u(rng), qx = 4 * u(rng), qz = pz + 6 * u(rng);
+      const BirdsEyePlace place = describe(scan_at(world, 0, pz, psi_p), config);
+      const BirdsEyePlace query = describe(scan_at(world, qx, qz, psi_q), config);
+      const BirdsEyeKeyMatch key = match_keys(query, place, config.angles);
+      const BirdsEyePose found = birds_eye_pose(query, place, key.yaw_rad, config, search);
+      // The pose maximises the weighed images' correlation; the score is the stored images' there.
+      double best = -1, best_yaw = 0, searched = -1;  // over every yaw; over the searched two
+      int best_dx = 0, best_dz = 0;
+      for (int k = 0; k < 2 * config.angles + 2; ++k) {
+        const bool key_yaw = k >= 2 * config.angles;
+        const double yaw = key_yaw ? key.yaw_rad + (k % 2) * M_PI : k * step;
+        const std::vector<double> corr =
+            birds_eye_pose_correlation(query, place, yaw, config, search, m);
+        for (int i = 0; i < int(corr.size()); ++i) {
+          if (key_yaw) searched = std::max(searched, corr[i]);
+          if (!key_yaw && corr[i] > best) {
+            best = corr[i], best_yaw = yaw;
+            best_dx = i % (2 * m + 1) - m, best_dz = i / (2 * m + 1) - m;
+          }
         }
       }
+      SCOPED_TRACE(testing::Message() << "taper from " << config.taper_start_m << ", trial "
+                                      << trial << " psi_p " << psi_p << " psi_q " << psi_q);
+      // The best whole-cell pose of the two yaws searched; within 1 % of the best over every yaw
+      // (the stored images' key gives the yaw to a key angle).
+      EXPECT_GE(found.fit, searched - 1e-9);
+      EXPECT_GE(found.fit, 0.99 * best);
+      const int fx = int(std::lround(found.x_m / config.cell_m)),
+                fz = int(std::lround(found.z_m / config.cell_m));
+      const std::vector<double> stored =
+          birds_eye_correlation(query, place, found.yaw_rad, config, m);
+      EXPECT_NEAR(found.score, stored[(fz + m) * (2 * m + 1) + fx + m], 1e-12);
+      EXPECT_LE(angle_error(found.yaw_rad, best_yaw), 1.01 * step);
+      EXPECT_LE(std::abs(found.x_m - best_dx * config.cell_m), 0.5 * config.cell_m + 1e-9);
+      EXPECT_LE(std::abs(found.z_m - best_dz * config.cell_m), 0.5 * config.cell_m + 1e-9);
+      // The truth: place point p_d lies at R(psi_p - psi_q) p_d + R(psi_q)^T (c_p - c_q).
+      const double c = std::cos(psi_q), s = std::sin(psi_q);
+      const double tx = c * (0 - qx) + s * (pz - qz), tz = -s * (0 - qx) + c * (pz - qz);
+      EXPECT_LE(angle_error(found.yaw_rad, psi_p - psi_q), 2.01 * step);
+      EXPECT_LE(std::hypot(found.x_m - tx, found.z_m - tz), 1.0);
+      EXPECT_GT(found.score, 0.5);
     }
-    SCOPED_TRACE(testing::Message() << "trial " << trial << " psi_p " << psi_p << " psi_q " << psi_q);
-    EXPECT_GE(found.score, best - 1e-9);
-    EXPECT_LE(angle_error(found.yaw_rad, best_yaw), 1.01 * step);
-    EXPECT_LE(std::abs(found.x_m - best_dx * config.cell_m), 0.5 * config.cell_m + 1e-9);
-    EXPECT_LE(std::abs(found.z_m - best_dz * config.cell_m), 0.5 * config.cell_m + 1e-9);
-    // The truth: place point p_d lies at R(psi_p - psi_q) p_d + R(psi_q)^T (c_p - c_q).
-    const double c = std::cos(psi_q), s = std::sin(psi_q);
-    const double tx = c * (0 - qx) + s * (pz - qz), tz = -s * (0 - qx) + c * (pz - qz);
-    EXPECT_LE(angle_error(found.yaw_rad, psi_p - psi_q), 2.01 * step);
-    EXPECT_LE(std::hypot(found.x_m - tx, found.z_m - tz), 1.0);
-    EXPECT_GT(found.score, 0.5);
   }
 }
 
+// The correlation the pose search maximises against a direct sum over the weighed images; a
+// window beyond the image weighs nothing, and the search's fit is then its score.
+TEST(BirdsEyeMatch, PoseCorrelationEqualsTheWeighedOracle) {
+  const BirdsEyePlaceConfig config;
+  BirdsEyeSearchConfig search;
+  search.pose_window_start_m = 10;
+  search.pose_window_end_m = 30;
+  const auto world = street_world(8);
+  const BirdsEyePlace q = describe(scan_at(world, 0.5, 1.0, 0.2));
+  const BirdsEyePlace d = describe(scan_at(world, -1.0, 3.0, 2.8));
+  const auto weight = [&](double dist) {
+    return birds_eye_window_weight(dist, search.pose_window_start_m, search.pose_window_end_m);
+  };
+  const int m = 3;
+  for (double y : {-2.1, 0.4, 2.9}) {
+    const std::vector<double> corr = birds_eye_pose_correlation(q, d, y, config, search, m);
+    const std::vector<double> stored = birds_eye_correlation(q, d, y, config, m);
+    ASSERT_EQ(corr.size(), std::size_t((2 * m + 1) * (2 * m + 1)));
+    int differ = 0;
+    for (int dz = -m; dz <= m; ++dz) {
+      for (int dx = -m; dx <= m; ++dx) {
+        const std::size_t i = std::size_t((dz + m) * (2 * m + 1) + dx + m);
+        const double expected = oracle_correlation(q, d, y, dx, dz, config, weight);
+        EXPECT_NEAR(corr[i], expected, 1e-5 * expected + 1e-9);
+        differ += std::abs(corr[i] - stored[i]) > 1e-3;
+      }
+    }
+    EXPECT_GT(differ, 0);  // the window weighs something
+  }
+  // The default window starts where the image ends: nothing weighed, fit and score alike.
+  const BirdsEyeSearchConfig beyond;
+  ASSERT_GE(beyond.pose_window_start_m, config.taper_end_m);
+  EXPECT_EQ(birds_eye_pose_correlation(q, d, 0.4, config, beyond, m),
+            birds_eye_correlation(q, d, 0.4, config, m));
+  const double yaw = match_keys(q, d, config.angles).yaw_rad;
+  const BirdsEyePose a = birds_eye_pose(q, d, yaw, config, beyond);
+  EXPECT_GT(a.score, 0.3);
+  EXPECT_EQ(a.fit, a.score);
+  const BirdsEyePose b = birds_eye_pose(q, d, yaw, config, search);
+  EXPECT_NE(b.fit, b.score);
+  BirdsEyeSearchConfig bad = search;
+  bad.pose_window_end_m = bad.pose_window_start_m;
+  EXPECT_THROW(birds_eye_pose_correlation(q, d, 0.4, config, bad, m), std::invalid_argument);
+}
 
 // The default search (coarse cells, then full resolution around the best coarse peaks) against
 // every shift at full resolution, on revisits and on other places: never a better score than
@@ -533,13 +607,13 @@ TEST(BirdsEyeMatch, CoarseToFineSearchFindsTheFullSearchsPose) {
       const double yaw = match_keys(query, *d, config.angles).yaw_rad;
       const BirdsEyePose a = birds_eye_pose(query, *d, yaw, config, full);
       const BirdsEyePose b = birds_eye_pose(query, *d, yaw, config, coarse);
-      EXPECT_LE(b.score, a.score + 1e-12) << trial;
+      EXPECT_LE(b.fit, a.fit + 1e-12) << trial;
       if (d == &stranger) {
         ++others;
         continue;
       }
       ++revisits;
-      if (std::abs(a.score - b.score) < 1e-12 && std::abs(a.x_m - b.x_m) < 1e-9 &&
+      if (std::abs(a.fit - b.fit) < 1e-12 && std::abs(a.x_m - b.x_m) < 1e-9 &&
           std::abs(a.z_m - b.z_m) < 1e-9 && std::abs(a.yaw_rad - b.yaw_rad) < 1e-12) {
         ++same;
       }

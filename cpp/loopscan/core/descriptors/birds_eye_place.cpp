@@ -219,13 +219,12 @@ BirdsEyeDescriber::BirdsEyeDescriber(const BirdsEyePlaceConfig& config) : config
   validate(config);
   side_ = image_side(config);
   weights_.assign(std::size_t(side_) * side_, 0.f);
-  const double span = config.taper_end_m - config.taper_start_m, R = config.range_m;
+  const double R = config.range_m;
   for (int r = 0; r < side_; ++r) {
     for (int c = 0; c < side_; ++c) {
       const double d = std::hypot((c + 0.5) * config.cell_m - R, (r + 0.5) * config.cell_m - R);
-      const double w = std::clamp((config.taper_end_m - d) / span, 0.0, 1.0);
-      const double s = std::sin(w * M_PI / 2);
-      weights_[std::size_t(r) * side_ + c] = float(s * s);
+      weights_[std::size_t(r) * side_ + c] =
+          float(birds_eye_window_weight(d, config.taper_start_m, config.taper_end_m));
     }
   }
   density_table_.resize(1024);

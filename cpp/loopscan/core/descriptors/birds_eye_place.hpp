@@ -33,7 +33,8 @@ struct BirdsEyePlaceConfig {
   double range_m = 30.0;        // the image spans [-range_m, range_m] in x and z
   // Cell weights fall smoothly from 1 at taper_start_m to 0 at taper_end_m: a round window, so
   // that a turned place moves its key along the angles. Near structure weighs most: it fixes
-  // the pose along a street; a flatter window recognises more but slides along corridors.
+  // the pose along a street (a flat window recognises more across seasons and in repeating
+  // streets, and needs BirdsEyeSearchConfig's pose window to keep the pose).
   double taper_start_m = 10.0;
   double taper_end_m = 30.0;
   double min_height_m = -1.0;   // structure: points above this height over the camera (up +)
@@ -46,6 +47,14 @@ struct BirdsEyePlaceConfig {
 
 // Throws std::invalid_argument naming the first bad field.
 void validate(const BirdsEyePlaceConfig& config);
+
+// The weight of a cell whose centre lies d from the keyframe in a window falling from 1 at
+// start to 0 at end: the square of a quarter sine, smooth at both ends.
+inline double birds_eye_window_weight(double d, double start, double end) {
+  const double w = std::clamp((end - d) / (end - start), 0.0, 1.0);
+  const double s = std::sin(w * M_PI / 2);
+  return s * s;
+}
 // Whether places of the two configurations compare: the same cell kind, cell size, range,
 // weight window and key rings and angles (the configurable fields a signature's meaning and
 // width depend on).

@@ -9,6 +9,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -380,23 +381,108 @@ void local_maxima(const std::vector<double>& corr, int mc, int yaw, std::vector<
 
 }  // namespace
 
+namespace {
+
+// The weight of each cell of a grid of `side` cells of cell_m from -range_m in the search's pose
+// window (by its centre's distance from the keyframe); the last table a thread made is kept,
+// as every query of a run asks for the same few.
+std::vector<float> pose_weights(int side, double cell_m, double range_m,
+                                const BirdsEyeSearchConfig& s) {
+  thread_local std::array<double, 5> made_for{};
+  thread_local std::vector<float> made;
+  const std::array<double, 5> key{double(side), cell_m, range_m, s.pose_window_start_m,
+                                  s.pose_window_end_m};
+  if (!made.empty() && key == made_for) return made;
+  std::vector<float> out(std::size_t(side) * std::size_t(side));
+  for (int r = 0; r < side; ++r) {
+    for (int col = 0; col < side; ++col) {
+      const double d = std::hypot((col + 0.5) * cell_m - range_m, (r + 0.5) * cell_m - range_m);
+      out[std::size_t(r) * side + col] =
+          float(birds_eye_window_weight(d, s.pose_window_start_m, s.pose_window_end_m));
+    }
+  }
+  made_for = key;
+  made = out;
+  return out;
+}
+
+Grid weighed(Grid g, const std::vector<float>& weights) {
+  double sq = 0;
+  for (std::size_t i = 0; i < g.cells.size(); ++i) {
+    g.cells[i] *= weights[i];
+    sq += double(g.cells[i]) * g.cells[i];
+  }
+  g.norm = std::sqrt(sq);
+  return g;
+}
+
+// A turned place weighed cell by cell. A weight that depends only on the distance from the
+// keyframe turns with the image: weighing after the turn is weighing the place.
+TurnedPlace weighed(const TurnedPlace& t, const std::vector<float>& weights) {
+  TurnedPlace out;
+  out.side = t.side;
+  out.cells.reserve(t.cells.size());
+  out.values.reserve(t.values.size());
+  double sq = 0;
+  for (std::size_t k = 0; k < t.cells.size(); ++k) {
+    const float v = t.values[k] * weights[std::size_t(t.cells[k])];
+    if (v == 0.f) continue;
+    out.cells.push_back(t.cells[k]);
+    out.values.push_back(v);
+    sq += double(v) * v;
+  }
+  out.norm = std::sqrt(sq);
+  return out;
+}
+
+// Whether the pose window weighs anything of an image: not when it starts at or beyond the
+// image's own window's end (the search then runs on the stored images themselves).
+bool pose_window_weighs(const BirdsEyePlaceConfig& c, const BirdsEyeSearchConfig& s) {
+  return s.pose_window_start_m < c.taper_end_m;
+}
+
+Grid pose_grid(const BirdsEyePlace& query, int f, const BirdsEyePlaceConfig& c,
+               const BirdsEyeSearchConfig& s) {
+  Grid g = merged_image(query, f);
+  if (!pose_window_weighs(c, s)) return g;
+  const std::vector<float> w = pose_weights(g.side, f * c.cell_m, c.range_m, s);
+  return weighed(std::move(g), w);
+}
+
+}  // namespace
+
 struct BirdsEyeImageSearch::Prepared {
   Prepared(const BirdsEyePlace& query, const BirdsEyePlaceConfig& c, const BirdsEyeSearchConfig& s)
-      : config(c), search(s), m(int(std::floor(s.max_shift_m / c.cell_m))), f(s.coarse_cells),
-        mc((m + f - 1) / f), full(merged_image(query, 1), m), coarse(merged_image(query, f), mc) {}
+      : config(c),
+        search(s),
+        m(int(std::floor(s.max_shift_m / c.cell_m))),
+        f(s.coarse_cells),
+        mc((m + f - 1) / f),
+        weighs(pose_window_weighs(c, s)),
+        weights(weighs ? pose_weights(query.side, c.cell_m, c.range_m, s) : std::vector<float>{}),
+        coarse_weights(weighs ? pose_weights((query.side + f - 1) / f, f * c.cell_m, c.range_m, s)
+                              : std::vector<float>{}),
+        stored(merged_image(query, 1), m),
+        full(pose_grid(query, 1, c, s), m),
+        coarse(pose_grid(query, f, c, s), mc) {}
   BirdsEyePlaceConfig config;
   BirdsEyeSearchConfig search;
   int m, f, mc;
-  PaddedQuery full, coarse;
+  bool weighs;                                 // whether pose images differ from the stored ones
+  std::vector<float> weights, coarse_weights;  // of the pose window, a cell each
+  PaddedQuery stored;                          // the query as stored: what the pose is scored on
+  PaddedQuery full, coarse;                    // its pose images: what the pose is searched on
 };
 
 void validate(const BirdsEyeSearchConfig& search, const BirdsEyePlaceConfig& config) {
   if (!(search.max_shift_m >= 0 && search.max_shift_m <= 2 * config.range_m) ||
       search.yaw_steps < 0 || search.coarse_cells < 1 || search.refined_peaks < 1 ||
-      search.finalists < 1) {
+      search.finalists < 1 || !(search.pose_window_start_m >= 0) ||
+      !(search.pose_window_end_m > search.pose_window_start_m)) {
     throw std::invalid_argument(
         "birds_eye: 0 <= max_shift_m <= 2 range_m, yaw_steps >= 0, coarse_cells >= 1, "
-        "refined_peaks >= 1 and finalists >= 1 expected");
+        "refined_peaks >= 1, finalists >= 1 and pose_window_end_m > pose_window_start_m >= 0 "
+        "expected");
   }
 }
 
@@ -409,10 +495,10 @@ BirdsEyeImageSearch::BirdsEyeImageSearch(const BirdsEyePlace& query,
   prepared_ = std::make_shared<const Prepared>(query, config, search);
 }
 
-BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_yaw_rad) const {
+BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& stored, double key_yaw_rad) const {
   const Prepared& q = *prepared_;
   const BirdsEyePlaceConfig& config = q.config;
-  check_image(place, config);
+  check_image(stored, config);
   const int m = q.m, f = q.f, mc = q.mc;
   std::vector<double> yaws;
   for (double base : {key_yaw_rad, key_yaw_rad + M_PI}) {
@@ -420,21 +506,24 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_ya
       yaws.push_back(wrap_angle(base + k * M_PI / config.angles));
     }
   }
-  const BorderedImage bordered(merged_image(place, 1));
-  // Full resolution, each yaw's turned place once it is searched.
+  const BorderedImage bordered(merged_image(stored, 1));
+  // Full resolution, each yaw's turned place once it is searched, as stored and weighed.
+  std::vector<std::optional<TurnedPlace>> turned(yaws.size());
   std::vector<std::optional<Correlation>> correlations(yaws.size());
   BirdsEyePose best;
   best.score = -1;
+  int best_yaw = 0, best_x = 0, best_z = 0;  // the best whole-cell pose
   auto search_window = [&](int y, const Window& window) {
     if (!correlations[y]) {
-      correlations[y].emplace(q.full,
-                              turned_image(bordered, yaws[y], config.cell_m, config.range_m));
+      turned[y] = turned_image(bordered, yaws[y], config.cell_m, config.range_m);
+      correlations[y].emplace(q.full, q.weighs ? weighed(*turned[y], q.weights) : *turned[y]);
     }
     return peak_of(correlations[y]->window(window), window);
   };
   auto keep_if_better = [&](int y, const Peak& peak) {
     if (peak.score > best.score) {
       best = {peak.dx * config.cell_m, peak.dz * config.cell_m, yaws[y], peak.score};
+      best_yaw = y, best_x = peak.x, best_z = peak.z;
     }
   };
   if (f == 1) {
@@ -442,11 +531,13 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_ya
   } else {
     // Coarse: the merged place turned on merged cells (the grid still starts at -range_m), so
     // a full-resolution peak at shift s lies within a cell or two of f times the merged one's.
-    const BorderedImage coarse_place(merged_image(place, f));
+    const BorderedImage coarse_place(merged_image(stored, f));
     std::vector<CoarsePeak> peaks;
     for (int y = 0; y < int(yaws.size()); ++y) {
-      Correlation coarse(q.coarse,
-                         turned_image(coarse_place, yaws[y], f * config.cell_m, config.range_m));
+      TurnedPlace turned_coarse =
+          turned_image(coarse_place, yaws[y], f * config.cell_m, config.range_m);
+      Correlation coarse(
+          q.coarse, q.weighs ? weighed(turned_coarse, q.coarse_weights) : std::move(turned_coarse));
       local_maxima(coarse.window({-mc, mc, -mc, mc}), mc, y, peaks);
     }
     const std::size_t keep = std::min(peaks.size(), std::size_t(q.search.refined_peaks));
@@ -470,7 +561,12 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& place, double key_ya
       keep_if_better(peaks[i].yaw, peak);
     }
   }
-  if (!(best.score > 0)) best = {0, 0, wrap_angle(key_yaw_rad), 0};
+  if (!(best.score > 0)) return {0, 0, wrap_angle(key_yaw_rad), 0, 0};
+  best.fit = best.score;
+  if (q.weighs) {
+    Correlation as_stored(q.stored, std::move(*turned[best_yaw]));
+    best.score = as_stored.window({best_x, best_x, best_z, best_z})[0];
+  }
   return best;
 }
 
@@ -489,6 +585,26 @@ std::vector<double> birds_eye_correlation(const BirdsEyePlace& query, const Bird
   const PaddedQuery padded(merged_image(query, 1), max_cells);
   return Correlation(padded, turned_image(BorderedImage(merged_image(place, 1)), yaw_rad,
                                           config.cell_m, config.range_m))
+      .window(all);
+}
+
+std::vector<double> birds_eye_pose_correlation(const BirdsEyePlace& query,
+                                               const BirdsEyePlace& place, double yaw_rad,
+                                               const BirdsEyePlaceConfig& config,
+                                               const BirdsEyeSearchConfig& search, int max_cells) {
+  validate(config);
+  validate(search, config);
+  check_image(query, config);
+  check_image(place, config);
+  if (!pose_window_weighs(config, search)) {
+    return birds_eye_correlation(query, place, yaw_rad, config, max_cells);
+  }
+  const std::vector<float> w = pose_weights(query.side, config.cell_m, config.range_m, search);
+  const Window all{-max_cells, max_cells, -max_cells, max_cells};
+  const PaddedQuery padded(weighed(merged_image(query, 1), w), max_cells);
+  return Correlation(padded, weighed(turned_image(BorderedImage(merged_image(place, 1)), yaw_rad,
+                                                  config.cell_m, config.range_m),
+                                     w))
       .window(all);
 }
 

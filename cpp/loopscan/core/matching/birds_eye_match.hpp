@@ -92,7 +92,8 @@ std::vector<std::pair<double, std::size_t>> nearest_keys(
 // axis (-y), positive to the left, in (-pi, pi].
 struct BirdsEyePose {
   double x_m = 0, z_m = 0, yaw_rad = 0;
-  double score = 0;  // normalised image correlation at the pose, in [0, 1]
+  double score = 0;  // the stored images' normalised correlation at the pose, in [0, 1]
+  double fit = 0;    // the pose images' (BirdsEyeSearchConfig::pose_window) at the pose
 };
 
 struct BirdsEyeSearchConfig {
@@ -103,6 +104,13 @@ struct BirdsEyeSearchConfig {
   // coarse_cells = 1 searches every shift at full resolution.
   int coarse_cells = 2;
   int refined_peaks = 5;
+  // With it, the pose is searched on both images weighed from 1 at pose_window_start_m to 0
+  // at pose_window_end_m from their keyframes and scored on the images as stored: near
+  // structure to fix the pose along a street, all of it as evidence (for flat stored windows,
+  // BirdsEyePlaceConfig::taper_start_m near taper_end_m). A window that starts at or beyond
+  // the stored window's end (the default) weighs nothing: pose and score on the stored images.
+  double pose_window_start_m = 30.0;
+  double pose_window_end_m = 32.0;
   // Places ranked by key whose images are searched (a difference-matrix row's or a database
   // query's finalists): the image search costs ~200x a key match. 10 finalists recognise a
   // little more (city AUC +0.03) for twice the query's cost.
@@ -138,9 +146,18 @@ class BirdsEyeImageSearch {
 
 // The normalised correlation of the query image with the place image turned by yaw_rad, at
 // every whole-cell shift (dx, dz) in [-max_cells, max_cells]^2: row-major from (-max, -max),
-// column = dx. What birds_eye_pose maximises.
+// column = dx. On the pose images, what birds_eye_pose maximises; on the stored ones, its score.
 std::vector<double> birds_eye_correlation(const BirdsEyePlace& query, const BirdsEyePlace& place,
                                           double yaw_rad, const BirdsEyePlaceConfig& config,
                                           int max_cells);
+
+// The correlation birds_eye_pose maximises, laid out as birds_eye_correlation's: the query
+// image and the turned place image, each cell weighed by its centre's weight in the search's
+// pose window (the weight turns with the image: it depends only on the distance from the
+// keyframe).
+std::vector<double> birds_eye_pose_correlation(const BirdsEyePlace& query,
+                                               const BirdsEyePlace& place, double yaw_rad,
+                                               const BirdsEyePlaceConfig& config,
+                                               const BirdsEyeSearchConfig& search, int max_cells);
 
 }  // namespace loopscan
