@@ -462,16 +462,17 @@ struct BirdsEyeImageSearch::Prepared {
         weights(weighs ? pose_weights(query.side, c.cell_m, c.range_m, s) : std::vector<float>{}),
         coarse_weights(weighs ? pose_weights((query.side + f - 1) / f, f * c.cell_m, c.range_m, s)
                               : std::vector<float>{}),
-        stored(merged_image(query, 1), m),
         full(pose_grid(query, 1, c, s), m),
-        coarse(pose_grid(query, f, c, s), mc) {}
+        coarse(pose_grid(query, f, c, s), mc) {
+    if (weighs) stored.emplace(merged_image(query, 1), m);
+  }
   BirdsEyePlaceConfig config;
   BirdsEyeSearchConfig search;
   int m, f, mc;
   bool weighs;                                 // whether pose images differ from the stored ones
   std::vector<float> weights, coarse_weights;  // of the pose window, a cell each
-  PaddedQuery stored;                          // the query as stored: what the pose is scored on
   PaddedQuery full, coarse;                    // its pose images: what the pose is searched on
+  std::optional<PaddedQuery> stored;  // the query as stored, when it differs: the pose's score
 };
 
 void validate(const BirdsEyeSearchConfig& search, const BirdsEyePlaceConfig& config) {
@@ -507,7 +508,8 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& stored, double key_y
     }
   }
   const BorderedImage bordered(merged_image(stored, 1));
-  // Full resolution, each yaw's turned place once it is searched, as stored and weighed.
+  // Full resolution, each yaw's turned place once it is searched (as stored too, when the pose
+  // images differ from the stored ones).
   std::vector<std::optional<TurnedPlace>> turned(yaws.size());
   std::vector<std::optional<Correlation>> correlations(yaws.size());
   BirdsEyePose best;
@@ -515,8 +517,13 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& stored, double key_y
   int best_yaw = 0, best_x = 0, best_z = 0;  // the best whole-cell pose
   auto search_window = [&](int y, const Window& window) {
     if (!correlations[y]) {
-      turned[y] = turned_image(bordered, yaws[y], config.cell_m, config.range_m);
-      correlations[y].emplace(q.full, q.weighs ? weighed(*turned[y], q.weights) : *turned[y]);
+      TurnedPlace t = turned_image(bordered, yaws[y], config.cell_m, config.range_m);
+      if (q.weighs) {
+        correlations[y].emplace(q.full, weighed(t, q.weights));
+        turned[y] = std::move(t);
+      } else {
+        correlations[y].emplace(q.full, std::move(t));
+      }
     }
     return peak_of(correlations[y]->window(window), window);
   };
@@ -564,7 +571,7 @@ BirdsEyePose BirdsEyeImageSearch::pose(const BirdsEyePlace& stored, double key_y
   if (!(best.score > 0)) return {0, 0, wrap_angle(key_yaw_rad), 0, 0};
   best.fit = best.score;
   if (q.weighs) {
-    Correlation as_stored(q.stored, std::move(*turned[best_yaw]));
+    Correlation as_stored(*q.stored, std::move(*turned[best_yaw]));
     best.score = as_stored.window({best_x, best_x, best_z, best_z})[0];
   }
   return best;
