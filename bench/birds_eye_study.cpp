@@ -9,9 +9,8 @@
 //                            [--window START END] [--pose-window START END] [--range R]
 //
 // K, the weight windows of the images and of the pose search (m), and the image's range R
-// (m): the library defaults. Places are described
-// from the scan `describe` and the Recognizer describe (polar-filtered); --in-range describes every
-// in-range point instead.
+// (m): the library defaults. Places are described from the scan `describe` and the Recognizer
+// describe (polar-filtered); --in-range describes every in-range point instead.
 //
 // Each directory holds poses_history_file.txt, pts_history_file.txt[.gz] and gt.txt.
 #include <algorithm>

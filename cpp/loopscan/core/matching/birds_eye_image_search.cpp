@@ -441,12 +441,10 @@ bool pose_window_weighs(const BirdsEyePlaceConfig& c, const BirdsEyeSearchConfig
   return s.pose_window_start_m < c.taper_end_m;
 }
 
-Grid pose_grid(const BirdsEyePlace& query, int f, const BirdsEyePlaceConfig& c,
-               const BirdsEyeSearchConfig& s) {
+// The query merged f x f, weighed by `weights` (none: as stored).
+Grid pose_grid(const BirdsEyePlace& query, int f, const std::vector<float>& weights) {
   Grid g = merged_image(query, f);
-  if (!pose_window_weighs(c, s)) return g;
-  const std::vector<float> w = pose_weights(g.side, f * c.cell_m, c.range_m, s);
-  return weighed(std::move(g), w);
+  return weights.empty() ? g : weighed(std::move(g), weights);
 }
 
 }  // namespace
@@ -462,8 +460,8 @@ struct BirdsEyeImageSearch::Prepared {
         weights(weighs ? pose_weights(query.side, c.cell_m, c.range_m, s) : std::vector<float>{}),
         coarse_weights(weighs ? pose_weights((query.side + f - 1) / f, f * c.cell_m, c.range_m, s)
                               : std::vector<float>{}),
-        full(pose_grid(query, 1, c, s), m),
-        coarse(pose_grid(query, f, c, s), mc) {
+        full(pose_grid(query, 1, weights), m),
+        coarse(pose_grid(query, f, coarse_weights), mc) {
     if (weighs) stored.emplace(merged_image(query, 1), m);
   }
   BirdsEyePlaceConfig config;
