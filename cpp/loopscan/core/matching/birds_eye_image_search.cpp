@@ -444,7 +444,8 @@ bool pose_window_weighs(const BirdsEyePlaceConfig& c, const BirdsEyeSearchConfig
 // The query merged f x f, weighed by `weights` (none: as stored).
 Grid pose_grid(const BirdsEyePlace& query, int f, const std::vector<float>& weights) {
   Grid g = merged_image(query, f);
-  return weights.empty() ? g : weighed(std::move(g), weights);
+  if (weights.empty()) return g;
+  return weighed(std::move(g), weights);
 }
 
 }  // namespace
