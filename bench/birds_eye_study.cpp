@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -123,21 +124,45 @@ double separation(std::vector<float>& row) {
   return (median - row[0]) / std::max(1e-9, median - tenth);
 }
 
+// How far a correlation peak stands out of the rest of its surface (peak to sidelobe): (peak -
+// mean) / deviation of the shifts more than `guard` cells from the peak.
+double peak_to_sidelobe(const std::vector<double>& surface, int side, int guard) {
+  int top = 0;
+  for (int i = 1; i < int(surface.size()); ++i) {
+    if (surface[i] > surface[top]) top = i;
+  }
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (int i = 0; i < int(surface.size()); ++i) {
+    if (std::abs(i / side - top / side) <= guard && std::abs(i % side - top % side) <= guard)
+      continue;
+    if (!std::isfinite(surface[i])) continue;
+    sum += surface[i];
+    sum2 += surface[i] * surface[i];
+    ++n;
+  }
+  if (n < 2) return 0;
+  const double mean = sum / n, deviation = std::sqrt(std::max(1e-12, sum2 / n - mean * mean));
+  return (surface[top] - mean) / deviation;
+}
+
 struct CellResult {
   std::vector<eval::QueryMatch> by_key, by_image;
+  std::vector<eval::QueryMatch> by_significance;  // by_image's place, ranked by peak to sidelobe
   double separation = 0;  // mean over queries
   double key_us = 0, image_ms = 0;
 };
 
 CellResult evaluate_cells(int cell, const Session& queries, const Session& db, bool cross,
                           const eval::Protocol& protocol, const BirdsEyePlaceConfig& config,
-                          const BirdsEyeSearchConfig& search) {
+                          const BirdsEyeSearchConfig& search, bool significance) {
   const int finalists = search.finalists;
   const int nq = int(queries.positions.size()), nd = int(db.positions.size());
   CellResult out;
   out.by_key.assign(nq, {0, 0, std::numeric_limits<double>::infinity()});
   for (int i = 0; i < nq; ++i) out.by_key[i].query = i;
   out.by_image = out.by_key;
+  out.by_significance = out.by_key;
   std::array<double, 2> key_ms{}, image_ms{}, separations{};
   std::array<long, 2> pairs{}, searched{};
   run_on_threads(2, [&](int t) {
@@ -159,6 +184,7 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
       pairs[t] += long(keyed.size());
       if (keyed.empty()) continue;
       if (row.size() >= 20) separations[t] += separation(row);
+      double best_yaw = 0;
       const int k = std::min<int>(finalists, int(keyed.size()));
       std::partial_sort(keyed.begin(), keyed.begin() + k, keyed.end());
       out.by_key[i] = {i, keyed[0].second, keyed[0].first};
@@ -167,10 +193,21 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
         const int j = keyed[f].second;
         const BirdsEyePose pose =
             birds_eye_pose(queries.places[cell][i], db.places[cell][j], yaw[j], config, search);
-        if (1.0 - pose.score < out.by_image[i].distance) out.by_image[i] = {i, j, 1.0 - pose.score};
+        if (1.0 - pose.score < out.by_image[i].distance) {
+          out.by_image[i] = {i, j, 1.0 - pose.score};
+          best_yaw = pose.yaw_rad;
+        }
         ++searched[t];
       }
       image_ms[t] += ms_since(t0);
+      if (significance && out.by_image[i].distance < 1.0) {
+        const int m = int(search.max_shift_m / config.cell_m);
+        const double psr = peak_to_sidelobe(
+            birds_eye_correlation(queries.places[cell][i], db.places[cell][out.by_image[i].place],
+                                  best_yaw, config, m),
+            2 * m + 1, 2);
+        out.by_significance[i] = {i, out.by_image[i].place, 1.0 / (1.0 + std::max(0.0, psr))};
+      }
     }
   });
   out.separation = (separations[0] + separations[1]) / std::max(1, nq);
@@ -185,7 +222,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> dirs;
   BirdsEyeSearchConfig search;
   int& finalists = search.finalists;
-  bool pipeline_scan = true;
+  bool pipeline_scan = true, significance = false;
   BirdsEyePlaceConfig layout;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -199,6 +236,8 @@ int main(int argc, char** argv) {
       search.pose_window_end_m = std::atof(argv[++i]);
     } else if (a == "--range" && i + 1 < argc) {
       layout.range_m = std::atof(argv[++i]);
+    } else if (a == "--significance") {
+      significance = true;
     } else if (a == "--in-range") {
       pipeline_scan = false;
     } else {
@@ -228,10 +267,15 @@ int main(int argc, char** argv) {
     std::array<CellResult, 2> results;
     const std::string image = ", image search on " + std::to_string(finalists) + " finalists";
     for (int c : {kDensity, kHeight}) {
-      results[c] = evaluate_cells(c, queries, db, cross, protocol, configs[c], search);
+      results[c] =
+          evaluate_cells(c, queries, db, cross, protocol, configs[c], search, significance);
       report(std::string(kCellNames[c]) + " cells, key", results[c].by_key, queries, db, protocol);
       report(std::string(kCellNames[c]) + " cells" + image, results[c].by_image, queries, db,
              protocol);
+      if (significance) {
+        report(std::string(kCellNames[c]) + " cells" + image + ", ranked by peak to sidelobe",
+               results[c].by_significance, queries, db, protocol);
+      }
     }
     const int chosen = results[kHeight].separation > results[kDensity].separation ? kHeight : kDensity;
     report("cells that separate better (" + std::string(kCellNames[chosen]) + ")" + image,

@@ -29,7 +29,7 @@ struct Expected {
 
 TEST(DbowYaml, ReadsDbow2AndDbow3Vocabularies) {
   const fs::path dir = vocabularies();
-  if (!fs::exists(dir)) GTEST_SKIP() << "needs " << dir << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(fs::exists(dir), dir);
   for (const Expected& e : {Expected{"dbow2-small/small_voc.yml.gz", 9, 3, 692},
                             Expected{"dbow3-slambook/vocabulary.yml.gz", 10, 5, 4983}}) {
     const Vocabulary v = read_vocabulary((dir / e.file).string());
@@ -64,7 +64,7 @@ TEST(DbowYaml, ReadsDbow2AndDbow3Vocabularies) {
 
 TEST(DbowYaml, SlambookImageOneMatchesImageTen) {
   const fs::path dir = vocabularies() / "dbow3-slambook";
-  if (!fs::exists(dir / "data/1.png")) GTEST_SKIP() << "needs " << dir << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(fs::exists(dir / "data/1.png"), dir);
   const Vocabulary v = read_vocabulary((dir / "vocabulary.yml.gz").string());
   std::vector<BowVector> bow;
   for (int i = 1; i <= 10; ++i) {
@@ -85,7 +85,9 @@ TEST(DbowYaml, SlambookImageOneMatchesImageTen) {
 }
 
 std::string gz(const std::string& name, const std::string& text) {
-  const std::string path = (fs::temp_directory_path() / name).string();
+  const fs::path dir = test::temp_path("dbow_yaml");
+  fs::create_directories(dir);
+  const std::string path = (dir / name).string();
   gzFile f = gzopen(path.c_str(), "wb");
   gzwrite(f, text.data(), static_cast<unsigned>(text.size()));
   gzclose(f);

@@ -28,7 +28,7 @@ double relative_l2(const Eigen::VectorXf& a, const Eigen::VectorXf& reference) {
 }
 
 TEST(GistReference, MatchesLearsCGistOnEverySharedImage) {
-  if (!fs::exists(reference())) GTEST_SKIP() << "needs " << reference() << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(fs::exists(reference()), reference());
   GistExtractor lear(GistConfig::lear_c());
   int images = 0;
   for (const auto& e : fs::directory_iterator(reference() / "input_256x256_gray")) {
@@ -46,8 +46,8 @@ TEST(GistReference, MatchesLearsCGistOnEverySharedImage) {
 
 TEST(GistReference, TheCropOfTheOriginalKittiFramesGivesTheSameGist) {
   const fs::path frames = fs::path(test::shared_dir()) / "data/real/kitti06-000000-000050/image_0";
-  if (!fs::exists(reference()) || !fs::exists(frames))
-    GTEST_SKIP() << "needs " << reference() << " and " << frames << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(fs::exists(reference()) && fs::exists(frames),
+                               reference() << " and " << frames);
   GistExtractor lear(GistConfig::lear_c());
   for (const char* frame : {"000000", "000025", "000050"}) {
     const cv::Mat original =

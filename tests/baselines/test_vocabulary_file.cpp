@@ -20,6 +20,7 @@
 #include "loopscan/sim/renderer.hpp"
 #include "loopscan/sim/trajectory.hpp"
 #include "support/random_vocabulary.hpp"
+#include "support/test_support.hpp"
 namespace loopscan {
 namespace {
 
@@ -28,7 +29,7 @@ using baselines::BowVector;
 using test::random_vocabulary;
 
 fs::path temp_file(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / "loopscan_vocab";
+  const fs::path d = test::temp_path("vocab");
   fs::create_directories(d);
   return d / name;
 }

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "support/test_support.hpp"
+
 namespace loopscan::test {
 namespace fs = std::filesystem;
 
@@ -31,7 +33,7 @@ inline CliResult run(const std::string& args) {
 }
 
 inline fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("loopscan_cli_" + name);
+  const fs::path d = temp_path("cli_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

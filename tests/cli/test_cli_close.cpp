@@ -143,7 +143,7 @@ TEST(CliClose, BadInputIsRefusedWithNothingWritten) {
 
 TEST(CliSlam, RunsTheVoThenClosesLoopsOnRealKittiImages) {
   const path seq = path(test::shared_dir()) / "data/real/kitti06-000000-000050";
-  if (!test::fs::exists(seq / "calib.txt")) GTEST_SKIP() << "needs " << seq << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(test::fs::exists(seq / "calib.txt"), seq);
   const path out = test::temp_dir("slam_" + std::to_string(getpid())) / "out";
   const test::CliResult r =
       test::run("slam --quiet --kitti " + seq.string() + " --out " + out.string());

@@ -135,7 +135,7 @@ TEST(Cli, EvaluateOnFixtureWritesMetricsCsvAndSvg) {
 
 TEST(Cli, PairsReproducesThePeerF1Max) {
   const std::string dir = test::shared_dir() + "/data/peers/lidar-iris-kitti";
-  if (!fs::exists(dir + "/06_score_label.txt.gz")) GTEST_SKIP() << "no peer data in " << dir;
+  LOOPSCAN_SKIP_WITHOUT_SHARED(fs::exists(dir + "/06_score_label.txt.gz"), dir);
   const fs::path d = temp_dir("pairs");
   const CliResult r = run("pairs --scores " + dir + "/06_score_label.txt.gz --out " + d.string());
   ASSERT_EQ(r.code, 0) << r.output;

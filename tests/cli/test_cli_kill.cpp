@@ -1,7 +1,8 @@
 // SIGKILL at any moment of any writing command: the output is the complete old set or the
 // complete new set, never a mix, and the next run clears what the killed one left. Each
-// command alternates between two parameter sets A and B over one target, killed at a random
-// time within its run. LOOPSCAN_KILLS sets the kills per command (default 6; the campaign in
+// command alternates between two parameter sets A and B over one target, killed just before
+// and just after the rename that commits its set (both outcomes must occur), then at random
+// times within its run. LOOPSCAN_KILLS sets the kills per command (default 6; the campaign in
 // scripts/kill-campaign runs 100, and 20 of the half-minute demo).
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -47,8 +48,9 @@ Snapshot snapshot(const fs::path& target) {
   return s;
 }
 
-// Starts the CLI with `args` (output discarded) and returns its pid.
-pid_t spawn(const std::vector<std::string>& args) {
+// Starts the CLI with `args` (output discarded), `extra_env` ("NAME=value") added to the
+// environment where given, and returns its pid.
+pid_t spawn(const std::vector<std::string>& args, const std::string& extra_env = "") {
   std::vector<std::string> all = {LOOPSCAN_CLI};
   all.insert(all.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -58,8 +60,13 @@ pid_t spawn(const std::vector<std::string>& args) {
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  std::vector<char*> env;
+  for (char** e = environ; *e; ++e) env.push_back(*e);
+  std::string extra = extra_env;
+  if (!extra.empty()) env.push_back(extra.data());
+  env.push_back(nullptr);
   pid_t pid = -1;
-  EXPECT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ), 0);
+  EXPECT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), env.data()), 0);
   posix_spawn_file_actions_destroy(&actions);
   return pid;
 }
@@ -80,7 +87,10 @@ struct KillStats {
   int kills = 0, old_set = 0, new_set = 0, mixed = 0;
 };
 
-// Runs the A/B alternation with `kills` SIGKILLs; every state seen must be A or B exactly.
+// Runs the A/B alternation: first two kills where the outcome is decided (the writer stopped
+// by the io library's test hook just before, then just after, the rename that makes its new
+// set visible: the old set, then the new one, must be what they leave), then `kills` SIGKILLs
+// at random times; every state seen must be A or B exactly.
 KillStats kill_test(const Writer& w, int kills, std::mt19937& rng) {
   auto with_out = [&](std::vector<std::string> args) {
     args.push_back("--out");
@@ -99,7 +109,24 @@ KillStats kill_test(const Writer& w, int kills, std::mt19937& rng) {
   const Snapshot a = snapshot(w.target);
   EXPECT_NE(a, b) << w.name << ": A and B must differ to tell the sets apart";
   KillStats stats;
-  bool holds_a = true;
+  for (const char* when : {"before", "after"}) {
+    const pid_t pid = spawn(with_out(w.b),
+                            std::string("LOOPSCAN_TEST_STOP_AT=") + when + ":" + w.target.string());
+    int status = 0;
+    waitpid(pid, &status, WUNTRACED);
+    EXPECT_TRUE(WIFSTOPPED(status)) << w.name << ": did not stop " << when << " its rename";
+    kill(pid, SIGKILL);
+    if (WIFSTOPPED(status)) wait_for(pid);
+    const Snapshot now = snapshot(w.target);
+    const bool before = std::string(when) == "before";
+    EXPECT_EQ(now, before ? a : b) << w.name << ": killed " << when << " the rename";
+    ++stats.kills;
+    stats.old_set += now == a;
+    stats.new_set += now == b;
+    stats.mixed += now != a && now != b;
+  }
+  if (snapshot(w.target) != b) complete(w.b);
+  bool holds_a = false;
   for (int k = 0; k < kills; ++k) {
     const double duration = holds_a ? seconds_b : seconds_a;
     // Every other kill lands near the end, where the set is swapped in.
@@ -119,6 +146,8 @@ KillStats kill_test(const Writer& w, int kills, std::mt19937& rng) {
     if (!is_a && !is_b) complete(w.a);  // back to a known state
     holds_a = !is_b;
   }
+  EXPECT_GT(stats.old_set, 0) << w.name << ": no kill left the old set";
+  EXPECT_GT(stats.new_set, 0) << w.name << ": no kill left the new set";
   complete(w.a);  // the next run clears every leftover of the killed ones
   for (const auto& e : fs::directory_iterator(w.target.parent_path())) {
     const std::string n = e.path().filename().string();

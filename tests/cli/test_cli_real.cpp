@@ -25,7 +25,7 @@ nlohmann::json json_of(const path& file) { return nlohmann::json::parse(test::fi
 
 TEST(CliReal, VoOnRealKittiFramesStaysWithinOnePercent) {
   const path seq = real_kitti06();
-  if (!test::fs::exists(seq / "calib.txt")) GTEST_SKIP() << "needs " << seq << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(test::fs::exists(seq / "calib.txt"), seq);
   const path dir = test::temp_dir("real_vo_" + std::to_string(getpid()));
   const test::CliResult r = test::run(
       "vo --quiet --kitti " + seq.string() +
@@ -60,7 +60,7 @@ TEST(CliReal, VoOnRealKittiFramesStaysWithinOnePercent) {
 
 TEST(CliReal, RunOnADriveWithoutRevisitsSaysSo) {
   const path seq = real_kitti06();
-  if (!test::fs::exists(seq / "calib.txt")) GTEST_SKIP() << "needs " << seq << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(test::fs::exists(seq / "calib.txt"), seq);
   const path out = test::temp_dir("real_run_" + std::to_string(getpid())) / "run";
   const test::CliResult r =
       test::run("run --quiet --methods sc --kitti " + seq.string() + " --out " + out.string());
@@ -80,7 +80,7 @@ TEST(CliReal, RunOnADriveWithoutRevisitsSaysSo) {
 TEST(CliReal, LidarScansOfAReverseRevisitMatchEachOther) {
   const path shared = test::shared_dir();
   const path pair = shared / "data/real/kitti08-lidar-revisit";
-  if (!test::fs::exists(pair / "000720.bin.gz")) GTEST_SKIP() << "needs " << pair << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(test::fs::exists(pair / "000720.bin.gz"), pair);
   // Ground-truth relative yaw from KITTI 08's poses (camera z axes in the x-z plane): ~149 deg.
   std::ifstream poses(shared / "data/kitti/poses/08.txt");
   std::string line;
@@ -162,7 +162,7 @@ TEST(CliReal, LidarScansOfAReverseRevisitMatchEachOther) {
 // that evo (and our reader) takes, and the error against the TUM ground truth.
 TEST(CliReal, VoOnARawEurocCameraWritesTumAndMetrics) {
   const path e = path(test::shared_dir()) / "data/real/euroc-v101-micro";
-  if (!test::fs::exists(e / "mav0")) GTEST_SKIP() << "needs " << e << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(test::fs::exists(e / "mav0"), e);
   const path dir = test::temp_dir("real_euroc_" + std::to_string(getpid()));
   const std::string gt = (e / "V101_gt_tum_micro_window.txt").string();
   const test::CliResult r = test::run("vo --quiet --euroc " + e.string() + " --gt " + gt +

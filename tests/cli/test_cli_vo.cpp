@@ -5,9 +5,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "loopscan/config/configuration.hpp"
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/kitti_sequence.hpp"
 #include "loopscan/io/png.hpp"
+#include "loopscan/io/vo_files.hpp"
+#include "loopscan/vo/run_sequence.hpp"
 
 #include "cli/cli_support.hpp"
 #include "support/test_support.hpp"
@@ -37,6 +40,15 @@ TEST(Cli, VoAndRunFromRenderedImages) {
   EXPECT_GT(j["metrics"]["segments"].get<int>(), 0);
   EXPECT_LT(j["metrics"]["translation_percent"].get<double>(), 5.0);
   EXPECT_GT(j["fps"].get<double>(), 0.0);
+  // The CLI's trajectory is the library's (the default configuration's VO on the same frames),
+  // written by the same writer: byte for byte. The library's own tests bound its accuracy.
+  const vo::SequenceRun library =
+      vo::run_stereo_vo(io::open_kitti_sequence(seq), Configuration::defaults().vo, {});
+  std::vector<Eigen::Matrix<double, 3, 4>> rows;
+  for (const Eigen::Isometry3d& T : library.trajectory) rows.push_back(T.matrix().topRows<3>());
+  io::write_kitti_poses((d / "library_trajectory.txt").string(), rows);
+  EXPECT_EQ(rows.size(), 36u);
+  EXPECT_EQ(file_bytes(d / "vo/trajectory.txt"), file_bytes(d / "library_trajectory.txt"));
   // `describe` reads the VO's SO-DSO history unchanged.
   const CliResult described = run(
       "describe --method sc --poses " + (d / "vo/poses_history_file.txt").string() + " --points " +

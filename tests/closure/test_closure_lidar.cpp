@@ -36,8 +36,8 @@ TEST(LoopCloserLidar, VerifiesTheKittiReverseRevisitAtTheTruePose) {
   const fs::path shared = test::shared_dir();
   const fs::path pair = shared / "data/real/kitti08-lidar-revisit";
   const fs::path poses = shared / "data/kitti/poses/08.txt";
-  if (!fs::exists(pair / "000720.bin.gz") || !fs::exists(poses))
-    GTEST_SKIP() << "needs " << pair << " and " << poses << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(fs::exists(pair / "000720.bin.gz") && fs::exists(poses),
+                               pair << " and " << poses);
   LoopCloserConfig config = LoopCloserConfig::make(Method::ScanContext);
   // Two places only: no recent-place mask, and the z-score gate needs a populated map's rows.
   config.recognition.query.exclude_recent = 0;

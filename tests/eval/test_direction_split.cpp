@@ -10,6 +10,7 @@
 
 #include "loopscan/eval/direction_split.hpp"
 #include "loopscan/io/ground_truth_files.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan::eval {
 namespace {
@@ -74,7 +75,7 @@ TEST(DirectionSplit, EqualsABruteForceRecountPerClass) {
 }
 
 TEST(Headings, KittiCameraAxisAndRobotCarMotion) {
-  const auto dir = std::filesystem::temp_directory_path() / "loopscan_headings";
+  const auto dir = test::temp_path("headings");
   std::filesystem::create_directories(dir);
   {
     std::ofstream k(dir / "kitti.txt");  // camera turned 90 deg about y: z axis = world +x

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "loopscan/eval/eval.hpp"
+#include "support/test_support.hpp"
 
 namespace le = loopscan::eval;
 using Eigen::Vector3d;
@@ -22,15 +23,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::string shared_dir() {
-  if (const char* env = std::getenv("LOOPSCAN_SHARED")) return env;
-#ifdef LOOPSCAN_SHARED_DIR
-  return LOOPSCAN_SHARED_DIR;
-#else
-  return "";
-#endif
-}
 
 std::vector<int> ranked_queries(const le::PrResult& r) {
   std::vector<int> q;
@@ -271,15 +263,14 @@ TEST(EvalPairwise, HandCaseWithTies) {
 
 // LiDAR-Iris on KITTI 06 as published by the SSC authors: our sweep must reproduce its F1-max.
 TEST(EvalPairwise, PeerLidarIrisKitti06) {
-  const std::string dir = shared_dir();
+  const std::string dir = loopscan::test::shared_dir();
   const std::string base = dir + "/data/peers/lidar-iris-kitti/06_";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(std::filesystem::exists(base + "f1max.txt") &&
+                                   std::filesystem::exists(base + "score_label.txt.gz"),
+                               base << "*");
   std::ifstream expected_file(base + "f1max.txt");
-  gzFile gz = dir.empty() ? nullptr : gzopen((base + "score_label.txt.gz").c_str(), "rb");
-  if (!gz || !expected_file) {
-    if (gz) gzclose(gz);
-    GTEST_SKIP() << "peer data not found; set LOOPSCAN_SHARED to the shared folder (tried '" << base
-                 << "*')";
-  }
+  gzFile gz = gzopen((base + "score_label.txt.gz").c_str(), "rb");
+  ASSERT_TRUE(gz && expected_file) << base;
   double expected = 0;
   expected_file >> expected;
   std::vector<le::ScoreLabel> pairs;

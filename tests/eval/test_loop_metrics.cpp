@@ -25,9 +25,8 @@ std::vector<Eigen::Isometry3d> isometries(const std::vector<Eigen::Matrix<double
 TEST(LoopMetrics, ApeAndRpeMatchEvoOnOrbSlam2Kitti00) {
   const std::string orb = test::shared_dir() + "/data/real/evo-kitti00/KITTI_00_ORB.txt";
   const std::string gt_path = test::shared_dir() + "/data/kitti/poses/00.txt";
-  if (!std::filesystem::exists(orb) || !std::filesystem::exists(gt_path)) {
-    GTEST_SKIP() << "needs " << orb << " and " << gt_path << " (../shared)";
-  }
+  LOOPSCAN_SKIP_WITHOUT_SHARED(std::filesystem::exists(orb) && std::filesystem::exists(gt_path),
+                               orb << " and " << gt_path);
   const auto est = isometries(io::read_kitti_poses(orb));
   const auto gt = isometries(io::read_kitti_poses(gt_path));
   // evo_ape kitti KITTI_00_gt.txt KITTI_00_ORB.txt --align: rmse 1.3034 m (res_files).

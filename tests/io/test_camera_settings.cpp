@@ -17,7 +17,7 @@ using CameraSettings = test::IoFixture;
 
 TEST_F(CameraSettings, ReadsTheKittiYaml) {
   const std::string path = test::shared_dir() + "/data/kitti/calib/KITTI04-12.yaml";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared file not found: " << path;
+  LOOPSCAN_SKIP_WITHOUT_SHARED(std::filesystem::exists(path), path);
   const io::StereoSettings c = io::read_orbslam_stereo(path);
   EXPECT_EQ(Eigen::Vector4d(c.fx, c.fy, c.cx, c.cy),
             Eigen::Vector4d(707.0912, 707.0912, 601.8873, 183.1104));

@@ -19,6 +19,7 @@
 #include <loopscan/io/sodso.hpp>
 
 #include "support/io_fixture.hpp"
+#include "support/test_support.hpp"
 
 namespace fs = std::filesystem;
 using Positions = std::vector<Eigen::Vector3d>;
@@ -38,14 +39,6 @@ std::vector<std::string> read_all_lines(const std::string& path) {
   while (reader.next(line)) lines.emplace_back(line);
   EXPECT_EQ(reader.line_number(), lines.size());
   return lines;
-}
-
-#ifndef LOOPSCAN_SHARED_DIR
-#define LOOPSCAN_SHARED_DIR ""
-#endif
-std::string shared_dir() {
-  const char* env = std::getenv("LOOPSCAN_SHARED");
-  return env != nullptr && *env != '\0' ? env : LOOPSCAN_SHARED_DIR;
 }
 
 }  // namespace
@@ -226,11 +219,8 @@ TEST_F(IoTest, AtomicWrites) {
 }
 
 TEST(IoFixtureTest, ReadsK06Summer) {
-  const fs::path dir = fs::path(shared_dir()) / "fixtures" / "k06-summer";
-  if (shared_dir().empty() || !fs::exists(dir / "poses_history_file.txt")) {
-    GTEST_SKIP() << "shared fixture k06-summer not found at '" << dir.string()
-                 << "' (set LOOPSCAN_SHARED to the shared data directory)";
-  }
+  const fs::path dir = fs::path(loopscan::test::fixture_dir());
+  LOOPSCAN_SKIP_WITHOUT_SHARED(fs::exists(dir / "poses_history_file.txt"), dir.string());
   const auto path = [&](const char* name) { return (dir / name).string(); };
   const auto poses = read_sodso_poses(path("poses_history_file.txt"));
   ASSERT_EQ(poses.size(), 910u);

@@ -11,6 +11,7 @@
 #include "loopscan/io/errors.hpp"
 #include "loopscan/io/lidar_file.hpp"
 #include "support/input_errors.hpp"
+#include "support/test_support.hpp"
 
 namespace loopscan::io {
 namespace {
@@ -29,7 +30,7 @@ std::vector<P> points(int n) {
 }
 
 fs::path dir() {
-  const fs::path d = fs::temp_directory_path() / "loopscan_lidar_files";
+  const fs::path d = test::temp_path("lidar_files");
   fs::create_directories(d);
   return d;
 }

@@ -11,10 +11,19 @@ CLI = os.environ.get("LOOPSCAN_CLI", str(REPO / "build/apps/loopscan/loopscan"))
 K06 = SHARED / "fixtures/k06-summer"
 
 
+def skip_without_shared(present, what):
+    """Ends a test whose shared data is absent: skipped, or failed where LOOPSCAN_REQUIRE_SHARED=1
+    (CI sets it, so that a missing reference file cannot leave CI green)."""
+    if present:
+        return
+    if os.environ.get("LOOPSCAN_REQUIRE_SHARED", "") not in ("", "0"):
+        pytest.fail(f"needs {what} (LOOPSCAN_REQUIRE_SHARED is set)")
+    pytest.skip(f"needs {what} (set LOOPSCAN_SHARED to the shared/ folder)")
+
+
 @pytest.fixture
 def k06():
-    if not (K06 / "poses_history_file.txt").exists():
-        pytest.skip(f"k06 fixture not found at {K06} (set LOOPSCAN_SHARED)")
+    skip_without_shared((K06 / "poses_history_file.txt").exists(), f"the k06 fixture at {K06}")
     return K06
 
 

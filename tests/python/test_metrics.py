@@ -3,14 +3,13 @@ import numpy as np
 import pytest
 
 import loopscan
-from conftest import SHARED
+from conftest import SHARED, skip_without_shared
 
 
 def test_ape_and_rpe_match_evo_on_orb_slam2_kitti00():
     orb = SHARED / "data/real/evo-kitti00/KITTI_00_ORB.txt"
     gt_path = SHARED / "data/kitti/poses/00.txt"
-    if not orb.exists() or not gt_path.exists():
-        pytest.skip(f"needs {orb} and {gt_path} (set LOOPSCAN_SHARED)")
+    skip_without_shared(orb.exists() and gt_path.exists(), f"{orb} and {gt_path}")
     est, gt = loopscan.read_kitti_poses(str(orb)), loopscan.read_kitti_poses(str(gt_path))
     assert est.shape == gt.shape == (4541, 4, 4) and est.dtype == np.float64
     m = loopscan.odometry_metrics(gt, est)

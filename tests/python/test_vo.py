@@ -5,14 +5,13 @@ import numpy as np
 import pytest
 
 import loopscan
-from conftest import CLI, SHARED
+from conftest import CLI, SHARED, skip_without_shared
 
 KITTI = SHARED / "data/real/kitti06-000000-000050"
 
 
 def test_vo_on_real_kitti_frames_equals_the_cli(tmp_path):
-    if not (KITTI / "calib.txt").exists():
-        pytest.skip(f"real KITTI frames not found at {KITTI} (set LOOPSCAN_SHARED)")
+    skip_without_shared((KITTI / "calib.txt").exists(), f"the real KITTI frames at {KITTI}")
     subprocess.run([CLI, "vo", "--kitti", str(KITTI), "--out", str(tmp_path / "vo"), "--quiet"],
                    check=True, capture_output=True)
     cli = loopscan.read_kitti_poses(str(tmp_path / "vo/trajectory.txt"))

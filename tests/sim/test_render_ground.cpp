@@ -82,8 +82,7 @@ TEST(RenderGround, HillLoopViewsAreTheOracles) {
 
 TEST(RenderGround, Kitti00ViewsAreTheOracles) {
   const std::string path = test::shared_dir() + "/data/kitti/poses/00.txt";
-  if (!std::filesystem::exists(path))
-    GTEST_SKIP() << "shared data not found at '" << path << "' (set LOOPSCAN_SHARED)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(std::filesystem::exists(path), path);
   const sim::Trajectory route = sim::trajectory_from_kitti(io::read_kitti_poses(path), path);
   const sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
   const sim::StereoCamera cam = sim::scaled_camera(sim::StereoCamera{}, 0.5);

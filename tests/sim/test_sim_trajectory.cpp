@@ -22,9 +22,7 @@ constexpr double kDeg = kPi / 180.0;
 // Declares `var` as a file of the shared data folder; skips the test when it is absent.
 #define REQUIRE_SHARED_FILE(var, relative)                       \
   const std::string var = test::shared_dir() + "/" + (relative); \
-  if (!std::filesystem::exists(var))                             \
-  GTEST_SKIP() << "shared data not found at '" << var            \
-               << "' (set LOOPSCAN_SHARED to the shared/ folder)"
+  LOOPSCAN_SKIP_WITHOUT_SHARED(std::filesystem::exists(var), var)
 
 double yaw_between(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return std::abs(std::remainder(heading_yaw(a) - heading_yaw(b), 2 * kPi));

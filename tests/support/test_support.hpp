@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the test files: the ../shared location, random clouds, fixture loading.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -18,10 +19,33 @@ inline std::string shared_dir() {
 
 inline std::string fixture_dir() { return shared_dir() + "/fixtures/k06-summer"; }
 
-#define LOOPSCAN_REQUIRE_FIXTURE()                                                           \
-  if (!std::filesystem::exists(::loopscan::test::fixture_dir() + "/poses_history_file.txt")) \
-  GTEST_SKIP() << "fixture not found at " << ::loopscan::test::fixture_dir()                 \
-               << " (set LOOPSCAN_SHARED to the shared/ folder)"
+// A path in the temporary directory that is this test process's own (`name` and the pid), so
+// that two suites running at once never share one.
+inline std::filesystem::path temp_path(const std::string& name) {
+  return std::filesystem::temp_directory_path() /
+         ("loopscan_" + name + "_" + std::to_string(::getpid()));
+}
+
+// LOOPSCAN_REQUIRE_SHARED=1 (CI sets it): a test whose shared data is absent fails instead of
+// skipping, so that a missing reference file cannot leave CI green.
+inline bool shared_required() {
+  const char* env = std::getenv("LOOPSCAN_REQUIRE_SHARED");
+  return env && *env && std::string(env) != "0";
+}
+
+// Ends the test when shared data it needs is absent (`present` false), saying what it needs
+// (`what`, streamed): skipped, or failed where shared data is required.
+#define LOOPSCAN_SKIP_WITHOUT_SHARED(present, what)                    \
+  if (present) {                                                       \
+  } else if (::loopscan::test::shared_required())                      \
+    FAIL() << "needs " << what << " (LOOPSCAN_REQUIRE_SHARED is set)"; \
+  else                                                                 \
+    GTEST_SKIP() << "needs " << what << " (set LOOPSCAN_SHARED to the shared/ folder)"
+
+#define LOOPSCAN_REQUIRE_FIXTURE()                                                          \
+  LOOPSCAN_SKIP_WITHOUT_SHARED(                                                             \
+      std::filesystem::exists(::loopscan::test::fixture_dir() + "/poses_history_file.txt"), \
+      "the k06 fixture at " << ::loopscan::test::fixture_dir())
 
 // A street-like cloud in the camera frame (x right, y down, z forward): two facades, a ground
 // strip and some clutter, with gray values. Deterministic in `seed`.

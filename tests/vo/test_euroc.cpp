@@ -37,7 +37,7 @@ double median_row_offset(const cv::Mat& left, const cv::Mat& right) {
 }
 
 TEST(Euroc, RectificationMakesEpipolarLinesRows) {
-  if (!fs::exists(micro() / "mav0")) GTEST_SKIP() << "needs " << micro() << " (../shared)";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(fs::exists(micro() / "mav0"), micro());
   const CameraCalibration c0 = read_camera_yaml((micro() / "mav0/cam0/sensor.yaml").string());
   EXPECT_NEAR(c0.fx, 458.654, 1e-9);
   EXPECT_EQ(c0.width, 752);
@@ -58,7 +58,7 @@ TEST(Euroc, RectificationMakesEpipolarLinesRows) {
 }
 
 TEST(Euroc, MalformedCalibrationsNameTheFileAndKey) {
-  const fs::path d = fs::temp_directory_path() / "loopscan_euroc_yaml";
+  const fs::path d = test::temp_path("euroc_yaml");
   fs::create_directories(d);
   const std::string good =
       "%YAML:1.0\nT_BS:\n  cols: 4\n  rows: 4\n  data: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, "

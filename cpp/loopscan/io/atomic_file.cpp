@@ -1,7 +1,9 @@
 #include <loopscan/io/atomic_file.hpp>
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 #include <system_error>
@@ -46,12 +48,24 @@ void AtomicWriter::commit() {
     throw std::runtime_error("cannot write '" + path_ + "': write to temporary file failed");
   }
   std::error_code ec;
+  stop_for_test("before", path_);
   fs::rename(temp_path_, path_, ec);
   if (ec) {
     discard();
     throw std::runtime_error("cannot write '" + path_ + "': rename failed: " + ec.message());
   }
+  stop_for_test("after", path_);
   done_ = true;
+}
+
+void stop_for_test(const char* when, const std::string& path) {
+  const char* env = std::getenv("LOOPSCAN_TEST_STOP_AT");
+  if (!env) return;
+  const std::string at = env, prefix = std::string(when) + ":";
+  if (at.compare(0, prefix.size(), prefix) != 0) return;
+  std::error_code ec;
+  const fs::path wanted = fs::absolute(at.substr(prefix.size()), ec).lexically_normal();
+  if (!ec && wanted == fs::absolute(path, ec).lexically_normal() && !ec) ::raise(SIGSTOP);
 }
 
 void write_file_atomic(const std::string& path, const std::string& content) {

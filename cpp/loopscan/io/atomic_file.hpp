@@ -37,4 +37,10 @@ class AtomicWriter {
   bool done_ = false;
 };
 
+// The kill test's hook: with LOOPSCAN_TEST_STOP_AT="<when>:<path>" in the environment (when:
+// before or after), a writer stops itself (SIGSTOP) just before or just after the rename that
+// makes `path` visible, so that the test kills it at the moment that decides between the old
+// output and the new one. Without the variable (every other run), nothing happens.
+void stop_for_test(const char* when, const std::string& path);
+
 }  // namespace loopscan::io

@@ -267,6 +267,7 @@ void OutputSet::commit() {
       const std::vector<std::string> foreign = foreign_entries(target_);
       if (!foreign.empty()) refuse_foreign(target_, foreign);
     }
+    stop_for_test("before", target_);
     if (!fs::exists(target_, ec)) {
       if (::rename(write_path_.c_str(), target_.c_str()) != 0) {
         fail_system(target_, "cannot move the new output set into place");
@@ -283,6 +284,7 @@ void OutputSet::commit() {
       }
       ::rename(aside.c_str(), write_path_.c_str());
     }
+    stop_for_test("after", target_);
     fs::remove_all(write_path_, ec);  // the old set, now at the staging path
   }
   committed_ = true;

@@ -17,6 +17,7 @@
 #include "loopscan/core/descriptors/m2dp_bins.hpp"
 #include "loopscan/core/descriptors/pca_align.hpp"
 #include "loopscan/core/descriptors/scan_context.hpp"
+#include "loopscan/core/simd.hpp"
 #include "support/test_support.hpp"
 
 namespace loopscan {
@@ -286,6 +287,10 @@ TEST(M2dpOracle, PowerStepEqualsEigensProductBitForBit) {
 // The AVX-512 Gram kernel against the AVX2 one: the same bits (every row tail; lengths of
 // whole 4-lane chunks, as M2DP's, the others keeping the AVX2 kernel).
 TEST(M2dpOracle, GramKernelsAgreeBitForBit) {
+  if (!simd::has_avx512()) {
+    GTEST_SKIP() << "the AVX-512 kernel does not run here (no AVX-512, or LOOPSCAN_NO_AVX512 / "
+                    "LOOPSCAN_NO_AVX2 set): both widths would run the same kernel";
+  }
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (const auto& [rows, cols] :
