@@ -7,9 +7,12 @@
 //
 //   loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] [--in-range]
 //                            [--window START END] [--pose-window START END] [--range R]
+//                            [--significance]
 //
 // K, the weight windows of the images and of the pose search (m), and the image's range R
-// (m): the library defaults. Places are described from the scan `describe` and the Recognizer
+// (m): the library defaults. --significance adds a row per cell kind: the image search's best
+// places ranked by how far their correlation peak stands out of its surface (peak to sidelobe)
+// instead of by its score. Places are described from the scan `describe` and the Recognizer
 // describe (polar-filtered); --in-range describes every in-range point instead.
 //
 // Each directory holds poses_history_file.txt, pts_history_file.txt[.gz] and gt.txt.
@@ -74,11 +77,11 @@ Session load(const std::string& dir, const std::array<BirdsEyePlaceConfig, 2>& c
   std::vector<ReadyScan> ready;
   auto take = [&] {
     for (const ReadyScan& r : ready) {
-      const CameraPoints points = pipeline_scan ? to_camera_points(r.scan) : r.in_range;
+      const CameraPoints scan = pipeline_scan ? to_camera_points(r.scan) : r.in_range;
       for (int c : {kDensity, kHeight}) {
         const auto t0 = std::chrono::steady_clock::now();
-        s.places[c].push_back(describers[c].describe(points.x.data(), points.y.data(),
-                                                     points.z.data(), points.size()));
+        s.places[c].push_back(
+            describers[c].describe(scan.x.data(), scan.y.data(), scan.z.data(), scan.size()));
         s.keys[c].push_back(key_spectrum(s.places[c].back(), configs[c].angles));
         s.describe_ms[c] += ms_since(t0);
       }
@@ -203,10 +206,10 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
       if (significance && out.by_image[i].distance < 1.0) {
         const int m = int(search.max_shift_m / config.cell_m);
         const double psr = peak_to_sidelobe(
-            birds_eye_correlation(queries.places[cell][i], db.places[cell][out.by_image[i].place],
+            birds_eye_correlation(queries.places[cell][i], db.places[cell][out.by_image[i].match],
                                   best_yaw, config, m),
             2 * m + 1, 2);
-        out.by_significance[i] = {i, out.by_image[i].place, 1.0 / (1.0 + std::max(0.0, psr))};
+        out.by_significance[i] = {i, out.by_image[i].match, 1.0 / (1.0 + std::max(0.0, psr))};
       }
     }
   });
@@ -247,7 +250,8 @@ int main(int argc, char** argv) {
   if (dirs.empty() || dirs.size() > 2 || finalists < 1) {
     std::fprintf(stderr,
                  "usage: loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] "
-                 "[--in-range] [--window START END] [--pose-window START END] [--range R]\n");
+                 "[--in-range] [--window START END] [--pose-window START END] [--range R] "
+                 "[--significance]\n");
     return 2;
   }
   try {

@@ -9,8 +9,14 @@
 // AVX2's three-operand encoding saves the register copies of scalar code (~8 % of the
 // instructions). The bits are the same: neither target has FMA (GCC's "avx2" does not imply
 // it), nothing is contracted or reordered. target_clones follow the CPU only (not
-// LOOPSCAN_NO_AVX2): the images are the same on every path.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+// LOOPSCAN_NO_AVX2): the tests build the library once more per clone, each compiled for that
+// target only (LOOPSCAN_SIM_ONLY_TARGET, or LOOPSCAN_SIM_ONLY_DEFAULT), and check the images
+// are the same on every path.
+#if defined(LOOPSCAN_SIM_ONLY_DEFAULT)
+#define LOOPSCAN_SIM_CLONES
+#elif defined(LOOPSCAN_SIM_ONLY_TARGET)
+#define LOOPSCAN_SIM_CLONES __attribute__((target(LOOPSCAN_SIM_ONLY_TARGET)))
+#elif defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
 #define LOOPSCAN_SIM_CLONES __attribute__((target_clones("avx2", "sse4.2", "default")))
 #else
 #define LOOPSCAN_SIM_CLONES
