@@ -22,6 +22,8 @@ def test_stream_then_query_the_saved_map(k06, tmp_path):
     for name in ("trajectory.png", "pr.png", "map.db"):
         assert (tmp_path / name).stat().st_size > 1000, name
     recall = float(out.split("recall at 100 % precision ")[1].split()[0])
-    assert recall > 0.9, out  # the k06 revisits, streamed as a live VO would
+    # The k06 revisits, streamed as a live VO would: measured 0.966 (the CLI's offline
+    # evaluation of the same default-mode places: 0.966 as well).
+    assert recall > 0.95, out
     out = run("query_saved_db.py", "--db", tmp_path / "map.db", "--dir", k06)
     assert "880 queries; top-1 is the same keyframe for 100.0 %" in out, out

@@ -1,6 +1,7 @@
 // The default-mode pipeline end to end on the built-in tiny scene (what `loopscan demo` runs).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -38,8 +39,11 @@ TEST(Pipeline, EveryMethodRecognisesRevisitsOfTheTinyScene) {
     const eval::PlaceEvaluation ev =
         eval::evaluate_places(sigs.signatures, sigs.signatures, pos, pos, o);
     EXPECT_GT(ev.pr.n_gt_loops, 100);
-    // The second lap revisits every place of the first: most must be recognised.
-    EXPECT_GT(ev.pr.auc, 0.8) << method_name(method);
+    std::printf("%s: AUC %.4f, recall at 100 %% precision %.4f\n", method_name(method).c_str(),
+                ev.pr.auc, ev.pr.recall_at_100_precision);
+    // The second lap revisits every place of the first: most must be recognised (measured AUC
+    // 0.971 Scan Context, 0.976 M2DP, 0.997 DELIGHT).
+    EXPECT_GT(ev.pr.auc, 0.95) << method_name(method);
   }
 }
 
