@@ -70,6 +70,8 @@ void bind_metrics(py::module_& m) {
         d["translation_percent"] = r.translation_percent;
         d["rotation_deg_per_100m"] = r.rotation_deg_per_100m;
         d["ate_rmse_m"] = r.ate_rmse_m;
+        d["sim3_scale"] = r.sim3_scale;
+        d["ate_sim3_rmse_m"] = r.ate_sim3_rmse_m;
         d["path_length_m"] = r.path_length_m;
         d["end_point_error_percent"] = r.end_point_error_percent;
         d["lengths_m"] = r.lengths_m;

@@ -72,6 +72,59 @@ TEST(OdometryMetrics, RigidlyMovedEstimateHasNoRelativeErrorAndZeroAte) {
   EXPECT_NEAR(m.ate_rmse_m, 0.0, 1e-8);
 }
 
+TEST(OdometryMetrics, TheSim3ScaleUndoesAnEstimateTooLong) {
+  // 10 % too long and rigidly moved: the scale that takes it back is 1 / 1.1, the ATE after it
+  // zero, the rigid ATE not.
+  const auto gt = curvy_drive(400);
+  Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();
+  offset.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(0, 1, 0)).toRotationMatrix();
+  offset.translation() = Eigen::Vector3d(-7, 1, 12);
+  std::vector<Eigen::Isometry3d> est;
+  for (const auto& T : gt) {
+    Eigen::Isometry3d e = T;
+    e.translation() *= 1.1;
+    est.push_back(offset * e);
+  }
+  const eval::OdometryMetrics m = eval::odometry_metrics(gt, est);
+  EXPECT_NEAR(m.sim3_scale, 1 / 1.1, 1e-9);
+  EXPECT_NEAR(m.ate_sim3_rmse_m, 0.0, 1e-7);
+  EXPECT_GT(m.ate_rmse_m, 5.0);
+}
+
+TEST(OdometryMetrics, TheSim3AlignmentIsTheBestScaleOfTheRigidOne) {
+  // Oracle: the rigid ATE of the estimate scaled by s, minimised over s by a fine search; the
+  // similarity alignment must find that s and that RMSE.
+  const auto gt = curvy_drive(300);
+  std::mt19937 rng(4);
+  std::normal_distribution<double> noise(0.0, 0.4);
+  std::vector<Eigen::Isometry3d> est;
+  for (std::size_t i = 0; i < gt.size(); ++i) {
+    Eigen::Isometry3d e = gt[i];
+    e.translation() = 0.93 * e.translation() + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)) +
+                      Eigen::Vector3d(0, 0.002 * double(i), 0);
+    est.push_back(e);
+  }
+  const auto scaled_ate = [&](double scale) {
+    std::vector<Eigen::Isometry3d> s = est;
+    for (auto& T : s) T.translation() *= scale;
+    return eval::ate_rmse(gt, s);
+  };
+  double lo = 0.5, hi = 2.0;  // the rigid ATE of a scaled estimate is unimodal in the scale
+  for (int it = 0; it < 200; ++it) {
+    const double a = lo + (hi - lo) / 3, b = hi - (hi - lo) / 3;
+    if (scaled_ate(a) < scaled_ate(b)) {
+      hi = b;
+    } else {
+      lo = a;
+    }
+  }
+  const double best = 0.5 * (lo + hi);
+  const eval::Sim3Alignment sim3 = eval::sim3_alignment(gt, est);
+  EXPECT_NEAR(sim3.scale, best, 1e-6);
+  EXPECT_NEAR(sim3.rmse_m, scaled_ate(best), 1e-9);
+  EXPECT_LT(sim3.rmse_m, eval::ate_rmse(gt, est));
+}
+
 TEST(OdometryMetrics, HeadingDriftShowsAsRotationError) {
   // The estimate turns an extra 0.02 rad every metre: the rotation error is 2 rad per 100 m
   // whatever the segment.

@@ -31,6 +31,9 @@ def test_a_constant_scale_drift_by_hand(tmp_path):
     # KITTI's devkit: a segment ends at the first frame MORE than 50 m on (51 m here) and its
     # 0.51 m error is divided by the nominal 50 m: 1.02 %.
     assert abs(m["translation_percent"] - 1.02) < 1e-9
+    # 1 % too long: the similarity alignment's scale undoes it, and nothing is left.
+    assert abs(m["sim3_scale"] - 1 / 1.01) < 1e-12 and m["ate_sim3_rmse_m"] < 1e-9
+    assert m["ate_rmse_m"] > 0.1
     with pytest.raises(ValueError, match=r"estimate: expected an array of shape \(N, 3, 4\)"):
         loopscan.odometry_metrics(gt, est[:, :2, :])
     with pytest.raises(ValueError):

@@ -205,13 +205,15 @@ void run_all(const RunArgs& a) {
   if (vo.summary.contains("metrics")) {
     const nlohmann::json& m = vo.summary["metrics"];
     report::Table t{"Odometry accuracy (KITTI protocol)",
-                    {"segments", "translation %", "rotation deg/100 m", "ATE m", "path m"},
+                    {"segments", "translation %", "rotation deg/100 m", "ATE m",
+                     "ATE after Sim(3) m", "Sim(3) scale", "path m"},
                     {}};
     auto cell = [](const nlohmann::json& x, int d) {
       return x.is_null() ? std::string("n/a") : fixed(x.get<double>(), d);
     };
     t.rows.push_back({std::to_string(m["segments"].get<int>()), cell(m["translation_percent"], 2),
                       cell(m["rotation_deg_per_100m"], 3), cell(m["ate_rmse_m"], 3),
+                      cell(m["ate_sim3_rmse_m"], 3), cell(m["sim3_scale"], 4),
                       cell(m["path_length_m"], 0)});
     page.tables.push_back(t);
   }

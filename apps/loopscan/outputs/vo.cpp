@@ -53,12 +53,15 @@ nlohmann::json tum_metrics(const std::vector<double>& times,
   for (std::size_t i = 1; i < gt_positions.size(); ++i)
     path += (gt_positions[i] - gt_positions[i - 1]).norm();
   const double ate = eval::aligned_rmse(gt_positions, positions);
+  const eval::Sim3Alignment sim3 = eval::sim3_alignment(gt_positions, positions);
   const eval::RelativeError rpe = eval::relative_pose_error(gt_poses, estimate, rpe_delta_m);
   return {{"ground_truth", gt_path},
           {"matched_frames", gt_poses.size()},
           {"path_length_m", path},
           {"ate_rmse_m", ate},
           {"ate_percent_of_path", path > 0 ? 100.0 * ate / path : 0.0},
+          {"sim3_scale", sim3.scale},
+          {"ate_sim3_rmse_m", sim3.rmse_m},
           {"rpe_delta_m", rpe_delta_m},
           {"rpe_pairs", rpe.pairs},
           {"rpe_translation_rmse_m", rpe.translation_rmse_m},
@@ -79,6 +82,8 @@ nlohmann::json metrics_json(const eval::OdometryMetrics& m) {
           {"rotation_deg_per_100m", number_or_null(m.rotation_deg_per_100m)},
           {"by_length", by_length},
           {"ate_rmse_m", m.ate_rmse_m},
+          {"sim3_scale", m.sim3_scale},
+          {"ate_sim3_rmse_m", m.ate_sim3_rmse_m},
           {"path_length_m", m.path_length_m},
           {"end_point_error_percent", number_or_null(m.end_point_error_percent)}};
 }
@@ -220,18 +225,21 @@ VoResult run_vo_and_write(const VoArgs& a, const Configuration& c) {
                   "odometry_metrics.segment_lengths_m); ",
                   m.path_length_m);
     }
-    std::printf("ATE %.3f m, end point %.2f %% of %.0f m\n", m.ate_rmse_m,
-                m.end_point_error_percent, m.path_length_m);
+    std::printf(
+        "ATE %.3f m (%.3f m after Sim(3) alignment, scale %.4f), end point %.2f %% of "
+        "%.0f m\n",
+        m.ate_rmse_m, m.ate_sim3_rmse_m, m.sim3_scale, m.end_point_error_percent, m.path_length_m);
   }
   if (euroc && !a.gt.empty()) {
     const double rpe_delta_m = c.odometry_metrics.rpe_delta_m;
     j["metrics"] = tum_metrics(times, tum, tum_gt, a.gt, rpe_delta_m);
     const nlohmann::json& m = j["metrics"];
     std::printf(
-        "against %s (%d frames matched, SE(3)-aligned): ATE %.3f m = %.2f %% of %.2f m; RPE over "
-        "%.2f m: %.3f m, %.2f deg (%d pairs)\n",
+        "against %s (%d frames matched, SE(3)-aligned): ATE %.3f m = %.2f %% of %.2f m (%.3f m "
+        "after Sim(3) alignment, scale %.4f); RPE over %.2f m: %.3f m, %.2f deg (%d pairs)\n",
         a.gt.c_str(), m["matched_frames"].get<int>(), m["ate_rmse_m"].get<double>(),
-        m["ate_percent_of_path"].get<double>(), m["path_length_m"].get<double>(), rpe_delta_m,
+        m["ate_percent_of_path"].get<double>(), m["path_length_m"].get<double>(),
+        m["ate_sim3_rmse_m"].get<double>(), m["sim3_scale"].get<double>(), rpe_delta_m,
         m["rpe_translation_rmse_m"].get<double>(), m["rpe_rotation_rmse_deg"].get<double>(),
         m["rpe_pairs"].get<int>());
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include <Eigen/Geometry>
 
@@ -68,6 +69,38 @@ double ate_rmse(const std::vector<Eigen::Isometry3d>& gt,
   return std::sqrt((aligned - dst).colwise().squaredNorm().mean());
 }
 
+Sim3Alignment sim3_alignment(const std::vector<Eigen::Vector3d>& gt,
+                             const std::vector<Eigen::Vector3d>& est) {
+  if (gt.size() != est.size()) {
+    throw std::invalid_argument("sim3 alignment: " + std::to_string(est.size()) +
+                                " estimated positions for " + std::to_string(gt.size()) +
+                                " ground-truth ones");
+  }
+  Sim3Alignment out;
+  if (gt.empty()) return out;
+  Eigen::Matrix3Xd src(3, est.size()), dst(3, gt.size());
+  for (std::size_t i = 0; i < gt.size(); ++i) {
+    src.col(static_cast<Eigen::Index>(i)) = est[i];
+    dst.col(static_cast<Eigen::Index>(i)) = gt[i];
+  }
+  const bool still = (src.colwise() - src.rowwise().mean()).squaredNorm() == 0;
+  const Eigen::Matrix4d A = Eigen::umeyama(src, dst, !still);  // no scale to estimate if still
+  const Eigen::Matrix3d sR = A.topLeftCorner<3, 3>();
+  out.scale = still ? 1.0 : std::cbrt(sR.determinant());
+  const Eigen::Matrix3Xd aligned = (sR * src).colwise() + A.topRightCorner<3, 1>();
+  out.rmse_m = std::sqrt((aligned - dst).colwise().squaredNorm().mean());
+  return out;
+}
+
+Sim3Alignment sim3_alignment(const std::vector<Eigen::Isometry3d>& gt,
+                             const std::vector<Eigen::Isometry3d>& est) {
+  check_sizes(gt, est);
+  std::vector<Eigen::Vector3d> g, e;
+  for (const Eigen::Isometry3d& T : gt) g.push_back(T.translation());
+  for (const Eigen::Isometry3d& T : est) e.push_back(T.translation());
+  return sim3_alignment(g, e);
+}
+
 OdometryMetrics odometry_metrics(const std::vector<Eigen::Isometry3d>& gt,
                                  const std::vector<Eigen::Isometry3d>& est,
                                  const OdometryOptions& options) {
@@ -97,6 +130,9 @@ OdometryMetrics odometry_metrics(const std::vector<Eigen::Isometry3d>& gt,
     m.rotation_deg_per_100m_by_length.push_back(r / k);
   }
   m.ate_rmse_m = ate_rmse(gt, est);
+  const Sim3Alignment sim3 = sim3_alignment(gt, est);
+  m.sim3_scale = sim3.scale;
+  m.ate_sim3_rmse_m = sim3.rmse_m;
   m.path_length_m = path_distances(gt).back();
   const Eigen::Isometry3d gt_end = gt.front().inverse() * gt.back();
   const Eigen::Isometry3d est_end = est.front().inverse() * est.back();

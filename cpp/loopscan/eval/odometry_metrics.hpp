@@ -27,6 +27,11 @@ struct OdometryMetrics {
   std::vector<double> lengths_m;         // per length that had segments
   std::vector<double> translation_percent_by_length, rotation_deg_per_100m_by_length;
   double ate_rmse_m = 0;                 // after the rigid (no scale) least-squares alignment
+  // The best similarity alignment (rotation, translation and one scale, evo's --correct_scale):
+  // the scale that takes the estimate onto the ground truth (below 1: the estimate is too long)
+  // and the RMSE after it. An ATE that falls far below ate_rmse_m is a scale error.
+  double sim3_scale = 1;
+  double ate_sim3_rmse_m = 0;
   double path_length_m = 0;              // ground truth
   double end_point_error_percent = 0;    // |est end - gt end| relative to the first pose / length
 };
@@ -41,6 +46,18 @@ std::vector<SegmentError> segment_errors(const std::vector<Eigen::Isometry3d>& g
 // RMSE of positions after aligning `estimate` to `gt` by the best rotation and translation.
 double ate_rmse(const std::vector<Eigen::Isometry3d>& gt,
                 const std::vector<Eigen::Isometry3d>& estimate);
+
+struct Sim3Alignment {
+  double scale = 1;   // applied to the estimate
+  double rmse_m = 0;  // of positions after the alignment
+};
+// The best rotation, translation and scale taking the estimate's positions onto gt's (Umeyama);
+// scale 1 and the rigid RMSE where the estimate does not move. Throws std::invalid_argument
+// when the sizes differ.
+Sim3Alignment sim3_alignment(const std::vector<Eigen::Vector3d>& gt,
+                             const std::vector<Eigen::Vector3d>& estimate);
+Sim3Alignment sim3_alignment(const std::vector<Eigen::Isometry3d>& gt,
+                             const std::vector<Eigen::Isometry3d>& estimate);
 
 // Throws std::invalid_argument when the sizes differ or fewer than 2 poses are given.
 OdometryMetrics odometry_metrics(const std::vector<Eigen::Isometry3d>& gt,
