@@ -23,6 +23,30 @@ void check_sizes(const std::vector<Eigen::Isometry3d>& gt,
                                 " ground-truth poses");
 }
 
+// The poses' positions as columns.
+Eigen::Matrix3Xd positions(const std::vector<Eigen::Isometry3d>& T) {
+  Eigen::Matrix3Xd p(3, T.size());
+  for (std::size_t i = 0; i < T.size(); ++i) p.col(static_cast<Eigen::Index>(i)) = T[i].translation();
+  return p;
+}
+
+// The best rotation and translation, and with `with_scale` one scale (unless the estimate does
+// not move: nothing to scale), taking the estimate's columns onto the ground truth's (Umeyama),
+// and the RMSE after it.
+Sim3Alignment fitted(const Eigen::Matrix3Xd& estimate, const Eigen::Matrix3Xd& gt,
+                     bool with_scale) {
+  Sim3Alignment out;
+  if (gt.cols() == 0) return out;
+  const bool scaled =
+      with_scale && (estimate.colwise() - estimate.rowwise().mean()).squaredNorm() > 0;
+  const Eigen::Matrix4d A = Eigen::umeyama(estimate, gt, scaled);
+  const Eigen::Matrix3d sR = A.topLeftCorner<3, 3>();
+  if (scaled) out.scale = std::cbrt(sR.determinant());
+  const Eigen::Matrix3Xd aligned = (sR * estimate).colwise() + A.topRightCorner<3, 1>();
+  out.rmse_m = std::sqrt((aligned - gt).colwise().squaredNorm().mean());
+  return out;
+}
+
 }  // namespace
 
 std::vector<double> path_distances(const std::vector<Eigen::Isometry3d>& T) {
@@ -58,15 +82,7 @@ std::vector<SegmentError> segment_errors(const std::vector<Eigen::Isometry3d>& g
 double ate_rmse(const std::vector<Eigen::Isometry3d>& gt,
                 const std::vector<Eigen::Isometry3d>& est) {
   check_sizes(gt, est);
-  if (gt.empty()) return 0.0;
-  Eigen::Matrix3Xd src(3, est.size()), dst(3, gt.size());
-  for (std::size_t i = 0; i < gt.size(); ++i) {
-    src.col(static_cast<Eigen::Index>(i)) = est[i].translation();
-    dst.col(static_cast<Eigen::Index>(i)) = gt[i].translation();
-  }
-  const Eigen::Matrix4d A = Eigen::umeyama(src, dst, false);
-  const Eigen::Matrix3Xd aligned = (A.topLeftCorner<3, 3>() * src).colwise() + A.topRightCorner<3, 1>();
-  return std::sqrt((aligned - dst).colwise().squaredNorm().mean());
+  return fitted(positions(est), positions(gt), false).rmse_m;
 }
 
 Sim3Alignment sim3_alignment(const std::vector<Eigen::Vector3d>& gt,
@@ -76,29 +92,18 @@ Sim3Alignment sim3_alignment(const std::vector<Eigen::Vector3d>& gt,
                                 " estimated positions for " + std::to_string(gt.size()) +
                                 " ground-truth ones");
   }
-  Sim3Alignment out;
-  if (gt.empty()) return out;
-  Eigen::Matrix3Xd src(3, est.size()), dst(3, gt.size());
-  for (std::size_t i = 0; i < gt.size(); ++i) {
-    src.col(static_cast<Eigen::Index>(i)) = est[i];
-    dst.col(static_cast<Eigen::Index>(i)) = gt[i];
-  }
-  const bool still = (src.colwise() - src.rowwise().mean()).squaredNorm() == 0;
-  const Eigen::Matrix4d A = Eigen::umeyama(src, dst, !still);  // no scale to estimate if still
-  const Eigen::Matrix3d sR = A.topLeftCorner<3, 3>();
-  out.scale = still ? 1.0 : std::cbrt(sR.determinant());
-  const Eigen::Matrix3Xd aligned = (sR * src).colwise() + A.topRightCorner<3, 1>();
-  out.rmse_m = std::sqrt((aligned - dst).colwise().squaredNorm().mean());
-  return out;
+  const auto columns = [](const std::vector<Eigen::Vector3d>& p) {
+    Eigen::Matrix3Xd m(3, p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = p[i];
+    return m;
+  };
+  return fitted(columns(est), columns(gt), true);
 }
 
 Sim3Alignment sim3_alignment(const std::vector<Eigen::Isometry3d>& gt,
                              const std::vector<Eigen::Isometry3d>& est) {
   check_sizes(gt, est);
-  std::vector<Eigen::Vector3d> g, e;
-  for (const Eigen::Isometry3d& T : gt) g.push_back(T.translation());
-  for (const Eigen::Isometry3d& T : est) e.push_back(T.translation());
-  return sim3_alignment(g, e);
+  return fitted(positions(est), positions(gt), true);
 }
 
 OdometryMetrics odometry_metrics(const std::vector<Eigen::Isometry3d>& gt,
@@ -129,8 +134,9 @@ OdometryMetrics odometry_metrics(const std::vector<Eigen::Isometry3d>& gt,
     m.translation_percent_by_length.push_back(t / k);
     m.rotation_deg_per_100m_by_length.push_back(r / k);
   }
-  m.ate_rmse_m = ate_rmse(gt, est);
-  const Sim3Alignment sim3 = sim3_alignment(gt, est);
+  const Eigen::Matrix3Xd est_positions = positions(est), gt_positions = positions(gt);
+  m.ate_rmse_m = fitted(est_positions, gt_positions, false).rmse_m;
+  const Sim3Alignment sim3 = fitted(est_positions, gt_positions, true);
   m.sim3_scale = sim3.scale;
   m.ate_sim3_rmse_m = sim3.rmse_m;
   m.path_length_m = path_distances(gt).back();
