@@ -26,7 +26,8 @@ void check_sizes(const std::vector<Eigen::Isometry3d>& gt,
 // The poses' positions as columns.
 Eigen::Matrix3Xd positions(const std::vector<Eigen::Isometry3d>& T) {
   Eigen::Matrix3Xd p(3, T.size());
-  for (std::size_t i = 0; i < T.size(); ++i) p.col(static_cast<Eigen::Index>(i)) = T[i].translation();
+  for (std::size_t i = 0; i < T.size(); ++i)
+    p.col(static_cast<Eigen::Index>(i)) = T[i].translation();
   return p;
 }
 
