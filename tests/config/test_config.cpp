@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "loopscan/config/config_file.hpp"
 #include "loopscan/config/keys.hpp"
 #include "loopscan/io/errors.hpp"
@@ -145,6 +147,15 @@ TEST_F(ConfigFile, TheDefaultsAreTheLibrarysOwn) {
       EXPECT_NO_THROW(validate(c));
     }
   }
+}
+
+// The open-road settings shipped for the CLI are the library's preset, key for key.
+TEST(OpenRoadConfig, TheShippedFileIsTheLibrarysPreset) {
+  const std::string path = std::string(LOOPSCAN_SOURCE_DIR) + "/docs/experiments/open-road.yaml";
+  const Configuration c = load_configuration(path, "sc", Mode::Default);
+  EXPECT_EQ(sim::to_json(c.simulator.world).dump(1),
+            sim::to_json(sim::open_road_world_config()).dump(1));
+  EXPECT_NE(sim::to_json(sim::WorldConfig{}), sim::to_json(sim::open_road_world_config()));
 }
 
 // Dump, load: the same document; and the dump of every method and mode loads as itself.

@@ -89,6 +89,16 @@ TEST(RenderOracle, CityAtFullResolution) {
   expect_agreement(compare(world, c, cam, route.T_world_cam[frame], 1, frame), "city");
 }
 
+TEST(RenderOracle, OpenRoadWithMarkingsAndGuardRails) {
+  const sim::Trajectory route = sim::make_builtin_trajectory("highway");
+  const sim::World world = sim::World::build(route.centres(), sim::open_road_world_config());
+  const sim::StereoCamera cam = sim::scaled_camera(sim::StereoCamera{}, 0.5);
+  const sim::Conditions c = sim::Conditions::for_season(sim::Season::Summer);
+  for (const int frame : {10, 300})  // a straight, the bend
+    expect_agreement(compare(world, c, cam, route.T_world_cam[frame], 0, frame),
+                     "open road frame " + std::to_string(frame));
+}
+
 TEST(RenderOracle, EmptyWorldIsAllSky) {
   const sim::World empty;
   const sim::StereoCamera cam = sim::scaled_camera(sim::StereoCamera{}, 0.1);

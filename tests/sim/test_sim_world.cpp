@@ -285,3 +285,47 @@ TEST(SimWorld, SessionSeedRedrawsOnlyCars) {
   EXPECT_GT(cars, 100);
   EXPECT_GT(changed, 50);
 }
+
+namespace {
+
+// The open road: guard rails stand beside both road edges along the whole route, and the road
+// carries dashed lane lines half a lane off the centreline and solid edge lines.
+TEST(SimWorld, OpenRoadHasGuardRailsAndLaneMarkings) {
+  const ls::WorldConfig c = ls::open_road_world_config();
+  const std::vector<Vector3d> path = polyline({{0, 0, 0}, {0, 0, 200}});
+  const ls::World world = ls::World::build(path, c);
+  EXPECT_GE(world.parameters()["counts"]["guard_rails"].get<int>(), 2 * 200 / 8);
+  const ls::Conditions summer = ls::Conditions::for_season(ls::Season::Summer);
+  // Sideways at beam height (0.6 m above the ground) from the centreline: the rail's face.
+  const double rail = c.road_half_width_m + c.guard_rail_offset_m;
+  for (const double z : {20.0, 101.0, 180.0})
+    for (const double side : {-1.0, 1.0}) {
+      const Vector3d o(0, c.camera_height_m - 0.6, z);
+      const auto hit = world.raycast(o, Vector3d(side, 0, 0), 100.0, summer);
+      ASSERT_TRUE(hit) << z;
+      EXPECT_EQ(hit->surface, ls::Surface::Rail);
+      EXPECT_NEAR(hit->distance, rail, 1e-6);
+    }
+  // Straight down onto the road: paint on the lane lines' dashes and on the edge lines only.
+  const auto albedo_at = [&](double x, double z) {
+    const auto hit = world.raycast(Vector3d(x, 0, z), Vector3d(0, 1, 0), 10.0, summer);
+    EXPECT_TRUE(hit && hit->surface == ls::Surface::Road) << x << " " << z;
+    return hit ? hit->albedo : 0.0;
+  };
+  const double lane = c.lane_width_m, edge = c.road_half_width_m - 0.35;
+  for (const double z : {36.0 + 1.0, 36.0 + 5.0}) {  // inside a 6 m dash of the 18 m period
+    EXPECT_GT(albedo_at(0.5 * lane, z), 0.7);
+    EXPECT_GT(albedo_at(-1.5 * lane, z), 0.7);
+  }
+  EXPECT_LT(albedo_at(0.5 * lane, 36.0 + 12.0), 0.3);  // in the gap
+  EXPECT_LT(albedo_at(lane, 37.0), 0.3);               // mid-lane
+  for (const double z : {37.0, 48.0}) EXPECT_GT(albedo_at(edge, z), 0.7);
+  // The default world has neither.
+  const ls::World city = ls::World::build(path, ls::WorldConfig{});
+  EXPECT_EQ(city.parameters()["counts"]["guard_rails"].get<int>(), 0);
+  const auto plain = city.raycast(Vector3d(0.5 * lane, 0, 37.0), Vector3d(0, 1, 0), 10.0, summer);
+  ASSERT_TRUE(plain);
+  EXPECT_LT(plain->albedo, 0.3);
+}
+
+}  // namespace

@@ -1,7 +1,9 @@
 #pragma once
-// The `short` route's world in summer with the KITTI camera scaled by `scale`, and its rendered
-// views as OpenCV images: the scene of the renderer, VO and image-baseline tests.
+// A built-in route's world in summer with the KITTI camera scaled by `scale`, and its rendered
+// views as OpenCV images: the scenes of the renderer, VO and image-baseline tests (the `short`
+// street; the open road).
 #include <cstdint>
+#include <string>
 
 #include <opencv2/core.hpp>
 
@@ -11,10 +13,13 @@
 
 namespace loopscan::test {
 
-struct ShortStreet {
-  explicit ShortStreet(double scale) : camera(sim::scaled_camera(sim::StereoCamera{}, scale)) {}
-  sim::Trajectory route = sim::make_builtin_trajectory("short");
-  sim::World world = sim::World::build(route.centres(), sim::WorldConfig{});
+struct RenderedRoute {
+  RenderedRoute(const std::string& route_name, const sim::WorldConfig& config, double scale)
+      : route(sim::make_builtin_trajectory(route_name)),
+        world(sim::World::build(route.centres(), config)),
+        camera(sim::scaled_camera(sim::StereoCamera{}, scale)) {}
+  sim::Trajectory route;
+  sim::World world;
   sim::Conditions conditions = sim::Conditions::for_season(sim::Season::Summer);
   sim::StereoCamera camera;
 
@@ -26,6 +31,10 @@ struct ShortStreet {
                                               camera_index, frame, rc);
     return cv::Mat(g.height, g.width, CV_8UC1, const_cast<std::uint8_t*>(g.pixels.data())).clone();
   }
+};
+
+struct ShortStreet : RenderedRoute {
+  explicit ShortStreet(double scale) : RenderedRoute("short", sim::WorldConfig{}, scale) {}
 };
 
 }  // namespace loopscan::test

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "support/rendered_street.hpp"
+#include "support/vo_camera.hpp"
 
 #include "loopscan/eval/odometry_metrics.hpp"
 #include "loopscan/sim/renderer.hpp"
@@ -27,18 +28,7 @@ const test::ShortStreet& scene() {
 
 cv::Mat render(int frame, int camera_index) { return scene().render(frame, camera_index); }
 
-vo::StereoIntrinsics intrinsics() {
-  const sim::StereoCamera& c = scene().camera;
-  vo::StereoIntrinsics k;
-  k.fx = c.fx;
-  k.fy = c.fy;
-  k.cx = c.cx;
-  k.cy = c.cy;
-  k.baseline_m = c.baseline();
-  k.width = c.width;
-  k.height = c.height;
-  return k;
-}
+vo::StereoIntrinsics intrinsics() { return test::vo_intrinsics(scene().camera); }
 
 struct Drive {
   std::vector<vo::FrameResult> frames;
@@ -245,6 +235,26 @@ TEST(StereoVo, BlankFramesForceAnExplicitResetAndTrackingResumes) {
   bool reset_keyframe = false;
   for (const vo::FinishedKeyframe& kf : d.keyframes) reset_keyframe = reset_keyframe || kf.reset;
   EXPECT_TRUE(reset_keyframe);
+}
+
+// Every blank frame is a reset bridged by the motion model: through twenty in a row the poses
+// stay finite rigid motions and advance by the last velocity.
+TEST(StereoVo, ResetsInARowAreBridgedAtTheLastVelocity) {
+  std::vector<int> blank;
+  for (int f = 14; f < 34; ++f) blank.push_back(f);
+  const Drive d = drive(0, 36, blank);
+  for (int f = 14; f < 34; ++f) EXPECT_TRUE(d.frames[f].reset) << f;
+  const double step =
+      (d.frames[14].T_world_cam.translation() - d.frames[13].T_world_cam.translation()).norm();
+  EXPECT_NEAR(step, 1.0, 0.1);  // the route's 1 m a frame
+  for (int f = 14; f < 34; ++f) {
+    const Eigen::Isometry3d& T = d.frames[f].T_world_cam;
+    ASSERT_TRUE(T.matrix().allFinite()) << f;
+    EXPECT_LT((T.linear().transpose() * T.linear() - Eigen::Matrix3d::Identity()).norm(), 1e-9)
+        << f;
+    EXPECT_NEAR((T.translation() - d.frames[f - 1].T_world_cam.translation()).norm(), step, 1e-6)
+        << f;
+  }
 }
 
 TEST(StereoVo, RejectsImagesOfTheWrongSizeAndFramesAfterFinish) {

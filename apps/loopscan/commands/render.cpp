@@ -109,7 +109,8 @@ void add_render_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "render", "Render stereo images of the synthetic world (KITTI odometry layout)");
   cmd->add_option("--trajectory", a->trajectory,
-                  "builtin:city | builtin:short | builtin:reverse | kitti:FILE | robotcar:FILE")
+                  "builtin:city | builtin:short | builtin:reverse | builtin:highway | kitti:FILE | "
+                  "robotcar:FILE")
       ->required();
   cmd->add_option("--season", a->season, "spring | summer | fall | winter")->capture_default_str();
   cmd->add_option("--seed", a->seed, "world seed")->capture_default_str();

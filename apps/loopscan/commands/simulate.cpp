@@ -49,7 +49,8 @@ void add_simulate_command(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("simulate", "Simulate a stereo VO's output in a synthetic world");
   cmd->add_option("--trajectory", a->trajectory,
-                  "builtin:city | builtin:short | builtin:reverse | kitti:FILE | robotcar:FILE")
+                  "builtin:city | builtin:short | builtin:reverse | builtin:highway | kitti:FILE | "
+                  "robotcar:FILE")
       ->required();
   cmd->add_option("--vo-poses", a->vo_poses, "SO-DSO poses_history_file.txt to use as VO poses");
   cmd->add_option("--season", a->season, "spring | summer | fall | winter")->capture_default_str();

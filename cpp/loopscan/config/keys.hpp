@@ -334,6 +334,11 @@ void visit_simulator(V& v, Configuration& c) {
     v.key("road_half_width_m", w.road_half_width_m, closed(0, 1000), "nothing but ground here");
     v.key("camera_height_m", w.camera_height_m, above(0, 100), "");
     v.key("sidewalk_width_m", w.sidewalk_width_m, above(0, 100), "");
+    v.key("road_grain", w.road_grain, closed(0, 1), "asphalt texture amplitude");
+    v.key("lane_markings", w.lane_markings, "dashed lane lines, solid edge lines");
+    v.key("lane_width_m", w.lane_width_m, above(0, 100), "");
+    v.key("guard_rails", w.guard_rails, "along both road edges");
+    v.key("guard_rail_offset_m", w.guard_rail_offset_m, closed(0, 100), "beyond the road edge");
     v.key("sample_spacing_m", w.sample_spacing_m, above(0, 1000), "");
     v.key("revisit_radius_m", w.revisit_radius_m, above(0, 1000), "");
     v.key("facade_width_min_m", w.facade_width_min_m, above(0, 1000), "");

@@ -95,8 +95,40 @@ LOOPSCAN_SIM_CLONES double roof_albedo(std::uint32_t salt, double x, double z) {
   return layered_albedo(salt, x, z, 0.3, 0.14, 0.4, 2, 0.06, 4.0);
 }
 
-LOOPSCAN_SIM_CLONES double road_albedo(std::uint32_t salt, double x, double z) {
-  return layered_albedo(salt, x, z, 0.16, 0.05, 0.3, 2, 0.025, 6.0);  // dark, low texture
+LOOPSCAN_SIM_CLONES double road_albedo(std::uint32_t salt, double x, double z, double grain) {
+  return layered_albedo(salt, x, z, 0.16, 0.05, 0.3, 2, grain, 6.0);  // dark
+}
+
+double lane_marking(double offset, double arc, double road_half_width, double lane_width) {
+  constexpr double kLine = 0.15, kEdgeLine = 0.2, kSoft = 0.02;
+  constexpr double kDash = 6.0, kDashPeriod = 18.0;  // 6 m painted, 12 m gap
+  const double edge = road_half_width - 0.35;
+  double paint = road_half_width > 1.0
+                     ? smooth_box(offset, edge - 0.5 * kEdgeLine, edge + 0.5 * kEdgeLine, kSoft)
+                     : 0.0;
+  // The lane lines: half a lane either side of the centreline, then every lane, while a lane's
+  // width is left before the edge line.
+  const double k = std::round((offset - 0.5 * lane_width) / lane_width);
+  const double line = 0.5 * lane_width + std::max(k, 0.0) * lane_width;
+  if (line < edge - 0.5 * lane_width) {
+    const double along = arc - kDashPeriod * std::floor(arc / kDashPeriod);
+    paint = std::max(paint, smooth_box(offset, line - 0.5 * kLine, line + 0.5 * kLine, kSoft) *
+                                smooth_box(along, 0.0, kDash, kSoft));
+  }
+  return paint;
+}
+
+double guard_rail_albedo(std::uint32_t salt, double u, double v) {
+  constexpr double kPostPitch = 2.0, kPostWidth = 0.12;
+  if (v >= kGuardRailBeamBottom) {  // the galvanised beam with its two grooves
+    const double groove =
+        std::max(smooth_box(v, 0.52, 0.55, 0.01), smooth_box(v, 0.65, 0.68, 0.01));
+    return clamp01(0.58 - 0.18 * groove + 0.06 * (value_noise2(1.5 * u, 8.0 * v, salt) - 0.5));
+  }
+  // Below the beam: its shadow, crossed by the posts.
+  const double lu = u - kPostPitch * std::floor(u / kPostPitch);
+  const double post = smooth_box(lu, 0.0, kPostWidth, 0.01);
+  return clamp01(mix(0.08, 0.45, post) + 0.03 * (value_noise2(4.0 * u, 4.0 * v, salt + 1) - 0.5));
 }
 
 LOOPSCAN_SIM_CLONES double sidewalk_albedo(std::uint32_t salt, double x, double z) {

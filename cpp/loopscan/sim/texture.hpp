@@ -61,7 +61,15 @@ struct CarStyle {
 double facade_albedo(const FacadeStyle& s, double u, double v, double face_width, double height);
 // Horizontal surfaces, in world (x, z).
 double roof_albedo(std::uint32_t salt, double x, double z);
-double road_albedo(std::uint32_t salt, double x, double z);
+double road_albedo(std::uint32_t salt, double x, double z, double grain);
+// Paint (0..1) of the road markings at `offset` metres from the centreline, `arc` metres along
+// it: a dashed line between lanes (the first half a lane off the centreline) and a solid edge
+// line.
+double lane_marking(double offset, double arc, double road_half_width, double lane_width);
+// Guard rail face: u along the rail, v height above the ground (the beam from
+// kGuardRailBeamBottom to kGuardRailHeight, posts every 2 m below it).
+inline constexpr double kGuardRailHeight = 0.75, kGuardRailBeamBottom = 0.45;
+double guard_rail_albedo(std::uint32_t salt, double u, double v);
 double sidewalk_albedo(std::uint32_t salt, double x, double z);
 double grass_albedo(std::uint32_t salt, double x, double z);
 double snow_albedo(std::uint32_t salt, double x, double z);

@@ -21,6 +21,8 @@ struct Trajectory {
 //           opposite direction, turns as circular arcs (smooth heading, no teleports).
 //  "short": ~350 m, a block driven once and partly again, for tests.
 //  "reverse": ~520 m, a street driven east, then its western half west (reverse revisits).
+//  "highway": ~1.7 km of open road with long bends at 2.5 m per frame (25 m/s at 10 Hz), driven
+//           once; meant for WorldConfig's open-road settings (docs/simulator.md).
 // Any other name -> std::invalid_argument listing the names.
 Trajectory make_builtin_trajectory(const std::string& name);
 std::vector<std::string> builtin_trajectory_names();

@@ -151,14 +151,29 @@ Trajectory make_reverse() {
                       grid_route({{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 0}, {0, 0}}, 100.0, 60.0));
 }
 
+Trajectory make_highway() {
+  // An open road at highway speed (25 m/s at 10 frames/s): 600 m straight, a long bend of
+  // 600 m radius to the east and back, ~1.7 km, driven once. No junctions: the camera keeps to
+  // the road's axis (its lanes are WorldConfig's markings).
+  RouteStyle style;
+  style.lane_offset_m = 0.0;
+  style.right_radius_m = style.left_radius_m = 600.0;
+  style.step_m = 2.5;
+  return sample_route("highway", {{0.0, 0.0}, {0.0, 600.0}, {300.0, 1100.0}, {300.0, 1700.0}},
+                      style);
+}
+
 }  // namespace
 
-std::vector<std::string> builtin_trajectory_names() { return {"city", "short", "reverse"}; }
+std::vector<std::string> builtin_trajectory_names() {
+  return {"city", "short", "reverse", "highway"};
+}
 
 Trajectory make_builtin_trajectory(const std::string& name) {
   if (name == "city") return make_city();
   if (name == "short") return make_short();
   if (name == "reverse") return make_reverse();
+  if (name == "highway") return make_highway();
   std::string names;
   for (const std::string& n : builtin_trajectory_names()) names += (names.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown built-in trajectory '" + name + "'; known: " + names);

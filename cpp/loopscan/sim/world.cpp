@@ -138,9 +138,13 @@ nlohmann::json World::parameters() const {
                      {"used_samples", w.used_samples},
                      {"runs", w.runs},
                      {"flat", w.flat}};
-  j["counts"] = {{"objects", object_count()}, {"facades", w.facades.size()},
-                 {"trees", w.trees},          {"poles", w.poles},
-                 {"crowns", w.crowns.size()}, {"car_slots", w.slots.size()}};
+  j["counts"] = {{"objects", object_count()},
+                 {"facades", w.facades.size() - w.guard_rails},
+                 {"trees", w.trees},
+                 {"poles", w.poles},
+                 {"guard_rails", w.guard_rails},
+                 {"crowns", w.crowns.size()},
+                 {"car_slots", w.slots.size()}};
   j["grid"] = {{"cell_m", w.grid.cell()},
                {"nx", w.grid.nx()},
                {"nz", w.grid.nz()},

@@ -57,6 +57,12 @@ CentrelineIndex::CentrelineIndex(const std::vector<Eigen::Vector3d>& path, doubl
         {pts[i].x(), pts[i].z(), pts[i].y(), pts[i + 1].x(), pts[i + 1].z(), pts[i + 1].y()});
   if (segs_.empty())
     segs_.push_back({pts[0].x(), pts[0].z(), pts[0].y(), pts[0].x(), pts[0].z(), pts[0].y()});
+  arc_start_.reserve(segs_.size());
+  double arc = 0.0;
+  for (const Segment& s : segs_) {
+    arc_start_.push_back(arc);
+    arc += std::hypot(s.bx - s.ax, s.bz - s.az);
+  }
   double max_x = -1e300, max_z = -1e300;
   min_x_ = min_z_ = 1e300;
   min_y_ = 1e300;
@@ -112,6 +118,13 @@ void CentrelineIndex::consider(std::uint32_t segment, double x, double z, Neares
     best.found = true;
     best.segment = segment;
   }
+}
+
+double CentrelineIndex::arc_length(std::uint32_t segment, double x, double z) const {
+  const Segment& s = segs_[segment];
+  double t;
+  distance2(s, x, z, t);
+  return arc_start_[segment] + t * std::hypot(s.bx - s.ax, s.bz - s.az);
 }
 
 CentrelineIndex::Nearest CentrelineIndex::nearest_linear(double x, double z) const {

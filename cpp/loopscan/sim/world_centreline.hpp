@@ -55,6 +55,10 @@ class CentrelineIndex {
   // answer nearby). Ties go to the lower index.
   Nearest nearest_from(std::uint32_t hint, double x, double z) const;
 
+  // Arc length along the centreline (from its first point) of the point of `segment` nearest
+  // to (x, z): where along the road a ground point lies, for dashed markings.
+  double arc_length(std::uint32_t segment, double x, double z) const;
+
   std::size_t segment_count() const { return segs_.size(); }
   bool empty() const { return segs_.empty(); }
   double min_y() const { return min_y_; }
@@ -78,6 +82,7 @@ class CentrelineIndex {
   int cell_z(double z) const;
 
   std::vector<Segment> segs_;
+  std::vector<double> arc_start_;  // arc length at each segment's first point
   double min_x_ = 0.0, min_z_ = 0.0, cell_ = 10.0;
   int nx_ = 0, nz_ = 0;
   std::vector<std::uint32_t> start_;  // CSR: cell c holds items_[start_[c] .. start_[c + 1])

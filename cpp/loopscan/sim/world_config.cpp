@@ -28,6 +28,8 @@ std::string surface_name(Surface surface) {
       return "pole";
     case Surface::Car:
       return "car";
+    case Surface::Rail:
+      return "rail";
   }
   return "unknown";
 }
@@ -39,6 +41,9 @@ void WorldConfig::validate() const {
   need(road_half_width_m >= 0.0, "road_half_width_m must be >= 0");
   need(camera_height_m > 0.0, "camera_height_m must be > 0");
   need(sidewalk_width_m > 0.0, "sidewalk_width_m must be > 0");
+  need(road_grain >= 0.0 && road_grain <= 1.0, "road_grain in [0, 1]");
+  need(lane_width_m > 0.0, "lane_width_m must be > 0");
+  need(guard_rail_offset_m >= 0.0, "guard_rail_offset_m must be >= 0");
   need(sample_spacing_m > 0.0, "sample_spacing_m must be > 0");
   need(revisit_radius_m > 0.0, "revisit_radius_m must be > 0");
   need(facade_width_min_m > 0.0 && facade_width_min_m <= facade_width_max_m, "facade width");
@@ -92,11 +97,35 @@ std::string route_size_problem(const std::vector<Eigen::Vector3d>& centreline,
   return "";
 }
 
+WorldConfig open_road_world_config() {
+  WorldConfig c;
+  c.road_half_width_m = 11.0;
+  c.sidewalk_width_m = 3.0;
+  c.lane_markings = true;
+  c.guard_rails = true;
+  c.setback_min_m = 20.0;
+  c.setback_max_m = 80.0;
+  c.gap_probability = 0.6;
+  c.gap_width_min_m = 20.0;
+  c.gap_width_max_m = 80.0;
+  c.tree_street_probability = 0.3;
+  c.tree_spacing_min_m = 15.0;
+  c.tree_spacing_max_m = 50.0;
+  c.pole_spacing_m = 50.0;
+  c.car_occupancy = 0.0;
+  return c;
+}
+
 nlohmann::json to_json(const WorldConfig& c) {
   return {{"seed", c.seed},
           {"road_half_width_m", c.road_half_width_m},
           {"camera_height_m", c.camera_height_m},
           {"sidewalk_width_m", c.sidewalk_width_m},
+          {"road_grain", c.road_grain},
+          {"lane_markings", c.lane_markings},
+          {"lane_width_m", c.lane_width_m},
+          {"guard_rails", c.guard_rails},
+          {"guard_rail_offset_m", c.guard_rail_offset_m},
           {"sample_spacing_m", c.sample_spacing_m},
           {"revisit_radius_m", c.revisit_radius_m},
           {"facade_width_m", {c.facade_width_min_m, c.facade_width_max_m}},

@@ -8,7 +8,7 @@
 
 namespace loopscan::sim {
 
-enum class Surface { Ground, Road, Sidewalk, Facade, Roof, Trunk, Crown, Pole, Car };
+enum class Surface { Ground, Road, Sidewalk, Facade, Roof, Trunk, Crown, Pole, Car, Rail };
 std::string surface_name(Surface surface);
 
 // Cross-section of a street (distances from the centreline): road up to road_half_width, then
@@ -19,6 +19,13 @@ struct WorldConfig {
   double road_half_width_m = 4.5;  // nothing (except ground) within this distance of the centreline
   double camera_height_m = 1.65;
   double sidewalk_width_m = 3.0;
+
+  // Road surface: the asphalt's fine grain (albedo amplitude) and, for open roads, lane
+  // markings: dashed lines between lanes of lane_width_m (the camera drives mid-lane), a solid
+  // line along each edge.
+  double road_grain = 0.025;
+  bool lane_markings = false;
+  double lane_width_m = 3.5;
 
   // Street sampling: objects are laid out once per street even if the trajectory revisits it.
   double sample_spacing_m = 4.0;
@@ -37,6 +44,10 @@ struct WorldConfig {
   double tree_spacing_min_m = 8.0, tree_spacing_max_m = 15.0;
   double crown_radius_min_m = 1.5, crown_radius_max_m = 2.4;
   double foliage_voxel_m = 0.25;  // leaf clusters: crowns are voxelised, density per season
+
+  // Guard rails along both road edges (highways), guard_rail_offset_m beyond the road's edge.
+  bool guard_rails = false;
+  double guard_rail_offset_m = 0.5;
 
   // Street lights.
   double pole_spacing_m = 25.0;
@@ -59,6 +70,12 @@ struct WorldConfig {
 // points), naming the largest step between consecutive points; empty when it would not.
 std::string route_size_problem(const std::vector<Eigen::Vector3d>& centreline,
                                const WorldConfig& config);
+
+// An open road (motorway): a 22 m carriageway with lane markings and guard rails, a grass verge,
+// sparse trees and lights, buildings far off and often missing, no parked cars. Structure is
+// mostly far away: the stereo VO's hard case (docs/vo.md). docs/experiments/open-road.yaml holds
+// the same settings for the CLI.
+WorldConfig open_road_world_config();
 
 nlohmann::json to_json(const WorldConfig& config);
 

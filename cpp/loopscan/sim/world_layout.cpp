@@ -229,7 +229,7 @@ void place_trees(Layout& L, std::mt19937& rng) {
         const Footprint trunk_fp = disc_footprint(p.x(), p.y(), trunk_r);
         const Footprint crown_fp = disc_footprint(p.x(), p.y(), crown_h);
         if (!L.clear_of_road(crown_fp) ||
-            L.occupied.overlaps(trunk_fp, 0.3, kTagFacade | kTagTrunk | kTagPole) ||
+            L.occupied.overlaps(trunk_fp, 0.3, kTagFacade | kTagRail | kTagTrunk | kTagPole) ||
             L.occupied.overlaps(crown_fp, -0.5, kTagFacade))
           continue;
         CrownObject crown;
@@ -266,7 +266,8 @@ void place_poles(Layout& L, std::mt19937& rng) {
         const Eigen::Vector2d p = L.beside(run, s, side, furniture_offset(c));
         s += next;
         const Footprint fp = disc_footprint(p.x(), p.y(), r);
-        if (!L.clear_of_road(fp) || L.occupied.overlaps(fp, 0.8, kTagFacade | kTagTrunk | kTagPole))
+        if (!L.clear_of_road(fp) ||
+            L.occupied.overlaps(fp, 0.8, kTagFacade | kTagRail | kTagTrunk | kTagPole))
           continue;
         const double g = ground_y_at(L.world, p.x(), p.y());
         PostObject pole;
@@ -302,7 +303,7 @@ void place_car_slots(Layout& L, std::mt19937& rng) {
             Box{p.x(), p.y(), t.x(), t.y(), kSlotHalfLength, kSlotHalfWidth, g - kSlotMaxHeight, g};
         const Footprint fp = box_footprint(slot.area);
         if (!L.clear_of_road(fp) ||
-            L.occupied.overlaps(fp, 0.1, kTagFacade | kTagTrunk | kTagPole) ||
+            L.occupied.overlaps(fp, 0.1, kTagFacade | kTagRail | kTagTrunk | kTagPole) ||
             L.occupied.overlaps(fp, 0.0, kTagSlot))
           continue;
         slot.id = L.next_id++;
@@ -310,6 +311,39 @@ void place_car_slots(Layout& L, std::mt19937& rng) {
         L.world.slots.push_back(slot);
       }
     }
+}
+
+void place_guard_rails(Layout& L, std::mt19937& rng) {
+  const WorldConfig& c = L.world.config;
+  if (!c.guard_rails) return;
+  constexpr double kPiece = 8.0, kHalfDepth = 0.15;  // a multiple of the 2 m post pitch
+  const double offset = c.road_half_width_m + c.guard_rail_offset_m + kHalfDepth;
+  for (const Run& run : L.runs)
+    for (const double side : {1.0, -1.0})
+      for (double s = 0.0; s < run.length(); s += kPiece) {
+        const std::uint32_t salt = static_cast<std::uint32_t>(rng());
+        const double e = std::min(s + kPiece, run.length());
+        const Eigen::Vector2d a = L.beside(run, s, side, offset),
+                              b = L.beside(run, e, side, offset);
+        const double len = (b - a).norm();
+        if (len < 0.5) continue;
+        const Eigen::Vector2d u = (b - a) / len, mid = 0.5 * (a + b);
+        const double g = ground_y_at(L.world, mid.x(), mid.y());
+        FacadeObject rail;
+        // Pieces overlap by 5 cm so that bends leave no slits.
+        rail.box =
+            Box{mid.x(), mid.y(), u.x(), u.y(), 0.5 * len + 0.05, kHalfDepth, g - kGuardRailHeight,
+                g + 0.2};
+        rail.surface = Surface::Rail;
+        rail.style.salt = salt;
+        rail.ground_y = g;
+        const Footprint fp = box_footprint(rail.box);
+        if (!L.clear_of_road(fp) || L.occupied.overlaps(fp, 0.0, kTagFacade)) continue;
+        rail.id = L.next_id++;
+        L.occupied.insert(fp, kTagRail);
+        L.world.facades.push_back(rail);
+        ++L.world.guard_rails;
+      }
 }
 
 void layout_streets(const std::vector<Eigen::Vector3d>& centreline, StaticWorld& world) {
@@ -325,6 +359,8 @@ void layout_streets(const std::vector<Eigen::Vector3d>& centreline, StaticWorld&
   };
   auto facade_rng = stage(0xFACADE);
   place_facades(layout, facade_rng);
+  auto rail_rng = stage(0x2A11);
+  place_guard_rails(layout, rail_rng);
   auto tree_rng = stage(0x7EE5);
   place_trees(layout, tree_rng);
   auto pole_rng = stage(0x901E5);

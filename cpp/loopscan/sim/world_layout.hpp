@@ -38,7 +38,8 @@ enum FootprintTag : int {
   kTagTrunk = 2,
   kTagCrown = 4,
   kTagPole = 8,
-  kTagSlot = 16
+  kTagSlot = 16,
+  kTagRail = 32
 };
 
 // Footprints placed so far, hashed by cell, to keep objects from overlapping each other.
@@ -69,6 +70,8 @@ struct Layout {
 };
 
 void place_facades(Layout& layout, std::mt19937& rng);
+// Guard rails (WorldConfig::guard_rails) in 8 m pieces beside both road edges.
+void place_guard_rails(Layout& layout, std::mt19937& rng);
 void place_trees(Layout& layout, std::mt19937& rng);
 void place_poles(Layout& layout, std::mt19937& rng);
 void place_car_slots(Layout& layout, std::mt19937& rng);

@@ -11,8 +11,9 @@
 
 namespace loopscan::sim {
 
-struct FacadeObject {
-  Box box;  // the flat top is the roof
+struct FacadeObject {  // buildings and guard rails
+  Box box;             // a building's flat top is its roof
+  Surface surface = Surface::Facade;
   FacadeStyle style;
   double ground_y = 0.0;  // facade texture heights are measured from here
   int id = -1;
@@ -67,7 +68,7 @@ struct StaticWorld {
   std::uint32_t ground_salt = 0, roof_salt = 0, foliage_salt = 0, leaf_salt = 0;
   // Statistics for World::parameters().
   std::size_t input_points = 0, street_samples = 0, used_samples = 0, runs = 0;
-  std::size_t trees = 0, poles = 0;
+  std::size_t trees = 0, poles = 0, guard_rails = 0;
   bool explicit_primitives = false;
 };
 

@@ -31,8 +31,20 @@ LOOPSCAN_INLINE Hit shade_ground(const StaticWorld& w, const Eigen::Vector3d& p,
                          g);
 }
 
+LOOPSCAN_INLINE Hit shade_guard_rail(const FacadeObject& f, int face, const Eigen::Vector3d& p,
+                                     double t, bool g) {
+  if (face == kTop) return make_hit(t, p, Surface::Rail, TextureSample{0.5, 0.0}, f.id);
+  double lu, lv;
+  box_local(f.box, p.x(), p.z(), lu, lv);
+  const bool across_u = face == kMinusU || face == kPlusU;
+  const double u = across_u ? lv : lu;
+  const auto albedo = [&](double uu, double vv) { return guard_rail_albedo(f.style.salt, uu, vv); };
+  return make_hit(t, p, Surface::Rail, sample_surface(albedo, u, f.ground_y - p.y(), g), f.id);
+}
+
 LOOPSCAN_INLINE Hit shade_facade(const StaticWorld& w, const FacadeObject& f, int face,
                                  const Eigen::Vector3d& p, double t, const Conditions& c, bool g) {
+  if (f.surface == Surface::Rail) return shade_guard_rail(f, face, p, t, g);
   if (face == kTop) {
     const std::uint32_t salt = w.roof_salt;
     const bool snow = has_snow(c.season);
@@ -119,10 +131,18 @@ LOOPSCAN_INLINE Hit shade_ground_as_inline(const StaticWorld& w, Surface s,
                                            bool g) {
   const std::uint32_t salt = w.ground_salt;
   if (s == Surface::Road) {  // the road is cleared of snow
-    return make_hit(t, p, Surface::Road,
-                    sample_surface([&](double x, double z) { return road_albedo(salt, x, z); },
-                                   p.x(), p.z(), g),
-                    -1);
+    const WorldConfig& wc = w.config;
+    const auto albedo = [&](double x, double z) {
+      const double asphalt = road_albedo(salt, x, z, wc.road_grain);
+      if (!wc.lane_markings) return asphalt;
+      constexpr double kPaint = 0.75;  // worn white paint
+      const CentrelineIndex::Nearest n = w.centreline.nearest(x, z);
+      if (!n.found) return asphalt;
+      const double paint = lane_marking(n.distance, w.centreline.arc_length(n.segment, x, z),
+                                        wc.road_half_width_m, wc.lane_width_m);
+      return asphalt + (kPaint - asphalt) * paint;
+    };
+    return make_hit(t, p, Surface::Road, sample_surface(albedo, p.x(), p.z(), g), -1);
   }
   const bool snow = has_snow(c.season);
   const double shift = grass_shift(c.season);

@@ -1,12 +1,15 @@
 #include "loopscan/vo/stereo_vo.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <stdexcept>
 #include <unordered_map>
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
 #include "loopscan/core/timing.hpp"
@@ -39,6 +42,14 @@ bool project(const StereoIntrinsics& c, const Eigen::Vector3d& p, cv::Point2f& p
 }
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The nearest rigid motion (the rotation part re-orthonormalised).
+Eigen::Isometry3d rigid(const Eigen::Isometry3d& T) {
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = Eigen::Quaterniond(T.linear()).normalized().toRotationMatrix();
+  out.translation() = T.translation();
+  return out;
+}
 
 }  // namespace
 
@@ -85,15 +96,22 @@ FrameResult StereoVo::process(int frame, const cv::Mat& left, const cv::Mat& rig
     // keyframe (it runs meanwhile); the pose is then estimated against the adjusted map. The
     // adjustment always lands here, whatever the threads' timing, so the result is fixed.
     Eigen::Isometry3d predicted = last_pose_ * velocity_;
-    const bool tracked = track(predicted, pyramid, r);
-    times_.track += ms_since(t0);
-    const Eigen::Isometry3d correction = apply_window_ba();  // may drop tracks it rejects
-    predicted = correction * predicted;
-    last_pose_ = correction * last_pose_;
-    r.tracked = static_cast<int>(tracks_.size());
-    t0 = Clock::now();
-    const bool posed = tracked && r.tracked >= config_.min_inliers && estimate_pose(T, r);
-    times_.pose += ms_since(t0);
+    bool posed;
+    if (!motion_known_) {  // one keyframe so far: no adjustment to wait for
+      posed = track_from_standstill(pyramid, T, r);
+      times_.track += ms_since(t0);
+    } else {
+      const bool tracked = track(predicted, pyramid, r);
+      times_.track += ms_since(t0);
+      const Eigen::Isometry3d correction = apply_window_ba();  // may drop tracks it rejects
+      predicted = correction * predicted;
+      last_pose_ = correction * last_pose_;
+      r.tracked = static_cast<int>(tracks_.size());
+      t0 = Clock::now();
+      posed = tracked && r.tracked >= config_.min_inliers && estimate_pose(T, r);
+      times_.pose += ms_since(t0);
+    }
+    motion_known_ = motion_known_ || posed;
     if (!posed) {
       // Explicit reset: bridge with the motion model, rebuild the map from this stereo pair.
       T = predicted;
@@ -107,10 +125,13 @@ FrameResult StereoVo::process(int frame, const cv::Mat& left, const cv::Mat& rig
       add_keyframe(frame, left, right, T, false);
       r.keyframe = true;
     }
-    velocity_ = last_pose_.inverse() * T;
+    // Re-orthonormalised: through consecutive resets the bridge composes it frame after
+    // frame, and the adjustment's corrections leave it slightly off a rotation.
+    velocity_ = rigid(last_pose_.inverse() * T);
   }
   last_pose_ = T;
   previous_pyramid_ = std::move(pyramid);
+  previous_left_ = left.clone();  // the caller may reuse its buffer
   const Keyframe& kf = window_.back();
   anchors_.push_back({kf.index, kf.T_world_cam.inverse() * T});
   r.T_world_cam = T;
@@ -120,33 +141,111 @@ FrameResult StereoVo::process(int frame, const cv::Mat& left, const cv::Mat& rig
 bool StereoVo::track(const Eigen::Isometry3d& predicted, const std::vector<cv::Mat>& pyramid,
                      FrameResult& r) {
   if (tracks_.empty()) return false;
-  std::vector<cv::Point2f> previous, current;
+  // A surface approached at speed grows between frames (by 25 % at 12 m and 2.5 m a frame), and
+  // Lucas-Kanade's translation-only patch then slides off. Each track is followed from the
+  // previous image scaled by its predicted growth (z before / z after), rounded to steps of
+  // kScaleStep: the patch then matches up to a translation.
+  constexpr double kScaleStep = 1.12;
+  constexpr int kMinStep = -3, kMaxStep = 6;
   const Eigen::Isometry3d T_cam_world = predicted.inverse();
-  for (const Track& t : tracks_) {
-    previous.push_back(t.px);
+  const Eigen::Isometry3d T_previous_world = last_pose_.inverse();
+  std::map<int, std::vector<std::size_t>> by_step;
+  std::vector<cv::Point2f> guesses(tracks_.size());
+  for (std::size_t i = 0; i < tracks_.size(); ++i) {
+    const Track& t = tracks_[i];
+    const Eigen::Vector3d now = T_cam_world * map_[t.point];
     cv::Point2f guess;
-    current.push_back(project(camera_, T_cam_world * map_[t.point], guess) ? guess : t.px);
+    guesses[i] = project(camera_, now, guess) ? guess : t.px;
+    const double before = (T_previous_world * map_[t.point]).z();
+    const double growth = before > 0.1 && now.z() > 0.1 ? before / now.z() : 1.0;
+    const int step = std::clamp(
+        static_cast<int>(std::lround(std::log(growth) / std::log(kScaleStep))), kMinStep, kMaxStep);
+    by_step[step].push_back(i);
   }
   const cv::Size window(config_.klt_window_px, config_.klt_window_px);
   const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 30, 0.01);
-  std::vector<uchar> status, back_status;
-  std::vector<float> error;
-  cv::calcOpticalFlowPyrLK(previous_pyramid_, pyramid, previous, current, status, error, window,
-                           config_.klt_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
-  std::vector<cv::Point2f> back = previous;
-  cv::calcOpticalFlowPyrLK(pyramid, previous_pyramid_, current, back, back_status, error, window,
-                           config_.klt_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
   const double max_fb = config_.forward_backward_px * px_scale_;
-  std::vector<Track> kept;
-  for (std::size_t i = 0; i < tracks_.size(); ++i) {
-    const cv::Point2f& p = current[i];
-    if (!status[i] || !back_status[i] || cv::norm(back[i] - previous[i]) > max_fb) continue;
-    if (p.x < 0 || p.y < 0 || p.x > camera_.width - 1 || p.y > camera_.height - 1) continue;
-    kept.push_back({tracks_[i].point, p});
+  std::vector<bool> good(tracks_.size(), false);
+  std::vector<cv::Point2f> tracked(tracks_.size());
+  for (const auto& [step, members] : by_step) {
+    const double scale = std::pow(kScaleStep, step);
+    // The scaled image keeps the image's size (OpenCV tracks between equal sizes): the scaling
+    // is about the point that takes the members' previous positions onto their predictions
+    // (least squares), so that they stay inside it.
+    Eigen::Vector2d shift = Eigen::Vector2d::Zero();
+    for (std::size_t i : members)
+      shift += Eigen::Vector2d(guesses[i].x - scale * tracks_[i].px.x,
+                               guesses[i].y - scale * tracks_[i].px.y);
+    shift /= static_cast<double>(members.size());
+    std::vector<cv::Mat> scaled_pyramid;
+    if (step != 0) {
+      const cv::Matx23d warp(scale, 0, shift.x(), 0, scale, shift.y());
+      cv::Mat scaled;
+      cv::warpAffine(previous_left_, scaled, warp, previous_left_.size(), cv::INTER_LINEAR,
+                     cv::BORDER_REPLICATE);
+      cv::buildOpticalFlowPyramid(scaled, scaled_pyramid, window, config_.klt_levels);
+    }
+    const std::vector<cv::Mat>& from = step != 0 ? scaled_pyramid : previous_pyramid_;
+    const auto to_scaled = [&](const cv::Point2f& p) {
+      return step == 0 ? p
+                       : cv::Point2f(static_cast<float>(scale * p.x + shift.x()),
+                                     static_cast<float>(scale * p.y + shift.y()));
+    };
+    std::vector<cv::Point2f> previous, current;
+    for (std::size_t i : members) {
+      previous.push_back(to_scaled(tracks_[i].px));
+      current.push_back(guesses[i]);
+    }
+    std::vector<uchar> status, back_status;
+    std::vector<float> error;
+    cv::calcOpticalFlowPyrLK(from, pyramid, previous, current, status, error, window,
+                             config_.klt_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+    std::vector<cv::Point2f> back = previous;
+    cv::calcOpticalFlowPyrLK(pyramid, from, current, back, back_status, error, window,
+                             config_.klt_levels, stop, cv::OPTFLOW_USE_INITIAL_FLOW);
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const cv::Point2f& p = current[k];
+      if (!status[k] || !back_status[k] || cv::norm(back[k] - previous[k]) > max_fb * scale)
+        continue;
+      if (p.x < 0 || p.y < 0 || p.x > camera_.width - 1 || p.y > camera_.height - 1) continue;
+      good[members[k]] = true;
+      tracked[members[k]] = p;
+    }
   }
+  std::vector<Track> kept;
+  for (std::size_t i = 0; i < tracks_.size(); ++i)
+    if (good[i]) kept.push_back({tracks_[i].point, tracked[i]});
   tracks_ = std::move(kept);
   r.tracked = static_cast<int>(tracks_.size());
   return r.tracked >= config_.min_inliers;
+}
+
+bool StereoVo::track_from_standstill(const std::vector<cv::Mat>& pyramid, Eigen::Isometry3d& T,
+                                     FrameResult& r) {
+  // Tracking from a standstill follows a periodic structure (guard rail posts every 2 m,
+  // fences) to its nearest copy and locks the VO onto a fraction of its speed; near structure
+  // at speed is lost. Forward motions up to 4 m a frame (40 m/s at 10 Hz) in steps of 0.5 m,
+  // a quarter of that period: the one whose pose keeps most tracks wins (ties: the slower).
+  const std::vector<Track> start = tracks_;
+  int best = -1;
+  std::vector<Track> best_tracks;
+  FrameResult best_result = r;
+  for (int step = 0; step <= 8; ++step) {
+    tracks_ = start;
+    FrameResult attempt = r;
+    Eigen::Isometry3d pose;
+    const Eigen::Isometry3d guess = last_pose_ * Eigen::Translation3d(0.0, 0.0, 0.5 * step);
+    if (!track(guess, pyramid, attempt) || !estimate_pose(pose, attempt) || attempt.inliers <= best)
+      continue;
+    best = attempt.inliers;
+    best_tracks = tracks_;
+    best_result = attempt;
+    T = pose;
+  }
+  tracks_ = std::move(best_tracks);
+  r = best_result;
+  r.tracked = static_cast<int>(tracks_.size());
+  return best >= 0;
 }
 
 bool StereoVo::estimate_pose(Eigen::Isometry3d& T, FrameResult& r) {
@@ -182,7 +281,10 @@ bool StereoVo::estimate_pose(Eigen::Isometry3d& T, FrameResult& r) {
   r.inliers = static_cast<int>(kept.size());
   if (r.inliers < config_.min_inliers) return false;
   T = T_cam_world.inverse();
-  if ((T.translation() - last_pose_.translation()).norm() > config_.max_step_m) return false;
+  // Written to refuse a non-finite pose too (a degenerate refinement).
+  if (!T.matrix().allFinite() ||
+      !((T.translation() - last_pose_.translation()).norm() <= config_.max_step_m))
+    return false;
   tracks_ = std::move(kept);
   return true;
 }
@@ -196,7 +298,7 @@ bool StereoVo::needs_keyframe(const Eigen::Isometry3d& T, int inliers) const {
 
 double StereoVo::right_u(const cv::Mat& left, const cv::Mat& right, float u, float v) const {
   const StereoSearch search =
-      stereo_search_for(camera_, config_, config_.min_depth_m, config_.max_depth_m, false);
+      stereo_search_for(camera_, config_, config_.min_depth_m, config_.max_depth_m, true);
   const double d = match_disparity(left, right, static_cast<int>(std::lround(u)),
                                    static_cast<int>(std::lround(v)), search);
   return std::isfinite(d) && d > 0 ? u - d : kNaN;
@@ -212,7 +314,7 @@ void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right
     occupied.push_back(t.px);
   }
   const StereoSearch search =
-      stereo_search_for(camera_, config_, config_.min_depth_m, config_.max_depth_m, false);
+      stereo_search_for(camera_, config_, config_.min_depth_m, config_.max_depth_m, true);
   for (const cv::Point2f& c : detect_grid_corners(left, occupied, config_)) {
     const double d = match_disparity(left, right, static_cast<int>(std::lround(c.x)),
                                      static_cast<int>(std::lround(c.y)), search);

@@ -93,6 +93,10 @@ class StereoVo {
              FrameResult& result);
   // P3P RANSAC + LM against the tracks' map points (the minimal solver needs no prior).
   bool estimate_pose(Eigen::Isometry3d& T_world_cam, FrameResult& result);
+  // The second frame's tracking and pose, without a motion model yet: from the forward motion
+  // hypothesis whose pose keeps most tracks.
+  bool track_from_standstill(const std::vector<cv::Mat>& pyramid, Eigen::Isometry3d& T_world_cam,
+                             FrameResult& result);
   bool needs_keyframe(const Eigen::Isometry3d& T_world_cam, int inliers) const;
   void add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right,
                     Eigen::Isometry3d& T_world_cam, bool reset);
@@ -110,6 +114,7 @@ class StereoVo {
   std::vector<Eigen::Vector3d> map_;  // world points, index = point id
   std::vector<Track> tracks_;
   std::vector<cv::Mat> previous_pyramid_;
+  cv::Mat previous_left_;
   std::vector<Keyframe> window_;
   std::vector<FinishedKeyframe> finished_;
   std::vector<Eigen::Isometry3d> final_keyframe_poses_;  // by keyframe index (window: current)
@@ -120,6 +125,7 @@ class StereoVo {
   int keyframe_tracks_ = 0;  // tracks right after the last keyframe
   int keyframes_ = 0;
   bool started_ = false, closed_ = false;
+  bool motion_known_ = false;  // a frame after the first has been posed
   StageTimes times_;
   struct WindowBa {
     std::unique_ptr<BaProblem> problem;  // on the heap: the worker holds it while StereoVo moves
