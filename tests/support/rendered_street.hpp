@@ -1,9 +1,10 @@
 #pragma once
-// A built-in route's world in summer with the KITTI camera scaled by `scale`, and its rendered
-// views as OpenCV images: the scenes of the renderer, VO and image-baseline tests (the `short`
-// street; the open road).
+// A route's world (a built-in one, or any trajectory) in summer with the KITTI camera scaled by
+// `scale`, and its rendered views as OpenCV images: the scenes of the renderer, VO and
+// image-baseline tests (the `short` street; the open road).
 #include <cstdint>
 #include <string>
+#include <utility>
 
 #include <opencv2/core.hpp>
 
@@ -15,7 +16,9 @@ namespace loopscan::test {
 
 struct RenderedRoute {
   RenderedRoute(const std::string& route_name, const sim::WorldConfig& config, double scale)
-      : route(sim::make_builtin_trajectory(route_name)),
+      : RenderedRoute(sim::make_builtin_trajectory(route_name), config, scale) {}
+  RenderedRoute(sim::Trajectory trajectory, const sim::WorldConfig& config, double scale)
+      : route(std::move(trajectory)),
         world(sim::World::build(route.centres(), config)),
         camera(sim::scaled_camera(sim::StereoCamera{}, scale)) {}
   sim::Trajectory route;

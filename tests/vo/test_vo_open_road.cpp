@@ -3,14 +3,18 @@
 // the renderer's ground truth. The study behind it: docs/experiments/open-road.md.
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "support/rendered_street.hpp"
+#include "support/test_support.hpp"
 #include "support/vo_camera.hpp"
 
 #include "loopscan/eval/odometry_metrics.hpp"
+#include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/vo/stereo_vo.hpp"
 
 namespace loopscan {
@@ -42,6 +46,35 @@ TEST(StereoVoOpenRoad, KeepsItsScaleAt25MetresASecondBesideGuardRails) {
   EXPECT_EQ(resets, 0);
   EXPECT_LT(m.translation_percent, 4.0);
   EXPECT_NEAR(m.sim3_scale, 1.0, 0.04);
+}
+
+// KITTI 01's first 51 ground-truth poses (1 m a frame, a long bend) driven through the open
+// road: little texture near the camera, so a keyframe has only ~60 corners with a stereo depth.
+// Requiring 20 inliers the VO reset 5 times here and bridged those frames at its last velocity:
+// 7.4 % over 10-40 m (9.8 % with 8 resets on `render`'s images of the same drive; the real
+// KITTI 01 snippet showed 9.5 %). P3P RANSAC is well determined with 15: 2.1 %, no reset.
+TEST(StereoVoOpenRoad, StartsASparseRoadAtKitti01sPaceWithoutResets) {
+  const std::string poses = test::shared_dir() + "/data/kitti/poses/01.txt";
+  LOOPSCAN_SKIP_WITHOUT_SHARED(std::filesystem::exists(poses), poses);
+  const test::RenderedRoute road(sim::trajectory_from_kitti(io::read_kitti_poses(poses), poses),
+                                 sim::open_road_world_config(), 1.0);
+  vo::StereoVo vo(test::vo_intrinsics(road.camera));
+  std::vector<Eigen::Isometry3d> gt;
+  int resets = 0;
+  for (int f = 0; f < 51; ++f) {
+    resets += vo.process(f, road.render(f, 0), road.render(f, 1)).reset ? 1 : 0;
+    gt.push_back(road.route.T_world_cam[0].inverse() * road.route.T_world_cam[f]);
+  }
+  vo.finish();
+  eval::OdometryOptions o;
+  o.segment_lengths_m = {10, 20, 30, 40};
+  const eval::OdometryMetrics m = eval::odometry_metrics(gt, vo.trajectory(), o);
+  std::printf(
+      "KITTI 01's start on the open road: translation %.2f %%, Sim(3) scale %.4f, %d resets\n",
+      m.translation_percent, m.sim3_scale, resets);
+  EXPECT_EQ(resets, 0);
+  EXPECT_LT(m.translation_percent, 3.0);
+  EXPECT_NEAR(m.sim3_scale, 1.0, 0.025);
 }
 
 }  // namespace

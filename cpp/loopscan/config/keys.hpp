@@ -302,6 +302,9 @@ void visit_vo(V& v, Configuration& c) {
   v.key("forward_backward_px", o.forward_backward_px, above(0, 100), "track check");
   v.key("ransac_reprojection_px", o.ransac_reprojection_px, above(0, 100), "P3P RANSAC");
   v.key("ransac_iterations", o.ransac_iterations, closed(1, 1e6), "");
+  v.key("track_sigma_px", o.track_sigma_px, above(0, 100), "pose weights: tracking noise");
+  v.key("stereo_sigma_px", o.stereo_sigma_px, closed(0, 100),
+        "... and disparity noise (0: map points exact)");
   v.key("min_inliers", o.min_inliers, closed(4, 1e6), "fewer: the VO resets");
   v.key("max_step_m", o.max_step_m, above(0, 1e6), "a larger jump between frames: reset");
   v.key("stereo_half_window", o.stereo_half_window, closed(1, 10), "SAD window half size (px)");

@@ -13,6 +13,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "loopscan/core/timing.hpp"
+#include "loopscan/vo/pose_refinement.hpp"
 
 namespace loopscan::vo {
 namespace {
@@ -264,14 +265,17 @@ bool StereoVo::estimate_pose(Eigen::Isometry3d& T, FrameResult& r) {
                                      config_.ransac_iterations, static_cast<float>(threshold),
                                      0.999, inliers, cv::SOLVEPNP_AP3P);
   if (!ok || static_cast<int>(inliers.size()) < config_.min_inliers) return false;
-  std::vector<cv::Point3d> object_in;
-  std::vector<cv::Point2d> image_in;
+  // The inliers' pose with each weighted by its point's stereo uncertainty seen from here.
+  Eigen::Isometry3d T_cam_world = from_rvec_tvec(rvec, tvec);
+  std::vector<UncertainPoint> points;
+  std::vector<Eigen::Vector2d> observations;
   for (int i : inliers) {
-    object_in.push_back(object[i]);
-    image_in.push_back(image[i]);
+    points.push_back({map_[tracks_[i].point], map_covariance_[tracks_[i].point]});
+    observations.emplace_back(tracks_[i].px.x, tracks_[i].px.y);
   }
-  cv::solvePnPRefineLM(object_in, image_in, K, cv::noArray(), rvec, tvec);
-  const Eigen::Isometry3d T_cam_world = from_rvec_tvec(rvec, tvec);
+  PoseRefinementConfig refinement;
+  refinement.sigma_px = config_.track_sigma_px * px_scale_;
+  if (!refine_pose(T_cam_world, points, observations, camera_, refinement)) return false;
   std::vector<Track> kept;
   for (const Track& t : tracks_) {
     cv::Point2f px;
@@ -304,6 +308,11 @@ double StereoVo::right_u(const cv::Mat& left, const cv::Mat& right, float u, flo
   return std::isfinite(d) && d > 0 ? u - d : kNaN;
 }
 
+Eigen::Matrix3d StereoVo::corner_covariance(double u, double v, double disparity) const {
+  return stereo_point_covariance(camera_, u, v, disparity, config_.track_sigma_px * px_scale_,
+                                 config_.stereo_sigma_px * px_scale_);
+}
+
 void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right,
                             Eigen::Isometry3d& T, bool reset) {
   auto t0 = Clock::now();
@@ -321,6 +330,7 @@ void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right
     if (!std::isfinite(d) || d <= 0) continue;
     const int id = static_cast<int>(map_.size());
     map_.push_back(T * back_project(camera_, c.x, c.y, d));
+    map_covariance_.push_back(T.linear() * corner_covariance(c.x, c.y, d) * T.linear().transpose());
     tracks_.push_back({id, c});
     kf.observations.push_back({id, c.x, c.y, c.x - d});
   }

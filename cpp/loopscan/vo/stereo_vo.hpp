@@ -1,10 +1,10 @@
 #pragma once
 // Feature-based stereo visual odometry: corners tracked frame to frame (pyramidal Lucas-Kanade
-// with a forward-backward check), pose by P3P RANSAC + Levenberg-Marquardt against stereo-
-// triangulated map points, keyframes by distance/rotation/track loss, windowed bundle adjustment
-// (Ceres) over the latest keyframes. When tracking fails the VO resets explicitly: the map is
-// rebuilt from the current stereo pair and the pose bridged with the constant-velocity model,
-// so the trajectory stays in one world frame (the reset is reported).
+// with a forward-backward check), pose by P3P RANSAC, then refined with each stereo-
+// triangulated map point weighted by its uncertainty, keyframes by distance/rotation/track loss,
+// windowed bundle adjustment (Ceres) over the latest keyframes. When tracking fails the VO resets
+// explicitly: the map is rebuilt from the current stereo pair and the pose bridged with the
+// constant-velocity model, so the trajectory stays in one world frame (the reset is reported).
 //
 // Per keyframe it exports DSO-like points (high-gradient pixels with stereo depth and gray value),
 // expressed in the world frame with the keyframe's final pose when the keyframe leaves the window.
@@ -91,7 +91,8 @@ class StereoVo {
 
   bool track(const Eigen::Isometry3d& predicted, const std::vector<cv::Mat>& pyramid,
              FrameResult& result);
-  // P3P RANSAC + LM against the tracks' map points (the minimal solver needs no prior).
+  // P3P RANSAC against the tracks' map points (the minimal solver needs no prior), then the
+  // inliers' uncertainty-weighted refinement.
   bool estimate_pose(Eigen::Isometry3d& T_world_cam, FrameResult& result);
   // The second frame's tracking and pose, without a motion model yet: from the forward motion
   // hypothesis whose pose keeps most tracks.
@@ -106,12 +107,15 @@ class StereoVo {
   void start_window_ba();
   Eigen::Isometry3d apply_window_ba();
   void finish_oldest();
+  // A new map point's covariance in its keyframe's camera frame.
+  Eigen::Matrix3d corner_covariance(double u, double v, double disparity) const;
   double right_u(const cv::Mat& left, const cv::Mat& right, float u, float v) const;
 
   StereoIntrinsics camera_;
   VoConfig config_;
   double px_scale_;
   std::vector<Eigen::Vector3d> map_;  // world points, index = point id
+  std::vector<Eigen::Matrix3d> map_covariance_;  // their stereo triangulation's, world frame
   std::vector<Track> tracks_;
   std::vector<cv::Mat> previous_pyramid_;
   cv::Mat previous_left_;

@@ -23,10 +23,13 @@ struct VoConfig {
   // Tracking: pyramidal Lucas-Kanade, forward-backward check.
   int klt_window_px = 21, klt_levels = 3;
   double forward_backward_px = 1.0;
-  // Pose: P3P RANSAC, then Levenberg-Marquardt on the inliers.
+  // Pose: P3P RANSAC, then Gauss-Newton on the inliers, each reprojection weighted by the
+  // tracking noise plus its map point's stereo covariance seen from the frame (standard
+  // deviations in px; stereo_sigma_px 0 treats the points as exact).
   double ransac_reprojection_px = 2.0;
   int ransac_iterations = 100;
-  int min_inliers = 20;
+  double track_sigma_px = 1.0, stereo_sigma_px = 0.5;
+  int min_inliers = 15;
   double max_step_m = 5.0;  // a larger jump between frames means tracking failed
   // Stereo matching (SAD over a square window along the row).
   int stereo_half_window = 2;
