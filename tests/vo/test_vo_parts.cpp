@@ -199,6 +199,33 @@ TEST(Corners, AtMostOnePerFreeCell) {
   EXPECT_GE(corners.size(), 30u);  // random texture: nearly every free cell has a corner
 }
 
+// Patterns with a known answer: a pattern repeated along a direction (bars 10 px apart, rows
+// of one gray) is self-similar along it and not across it where each row or column differs;
+// random texture nowhere; a flat image everywhere.
+TEST(Corners, SelfSimilarAlongALineOnlyWhereThePatternRepeats) {
+  const cv::Mat noise = random_texture(200, 120, 9);
+  cv::Mat bars(120, 200, CV_8UC1), rows(120, 200, CV_8UC1);
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 200; ++x) {
+      // Posts every 10 px whose brightness varies row by row, as a rail's posts down the image.
+      const int row_gray = noise.at<std::uint8_t>(y, 0);
+      bars.at<std::uint8_t>(y, x) =
+          static_cast<std::uint8_t>(x % 10 < 3 ? row_gray : 255 - row_gray);
+      rows.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(row_gray);
+    }
+  const cv::Mat flat(120, 200, CV_8UC1, cv::Scalar(90));
+  const cv::Point2f p(60.5f, 50.5f);
+  const cv::Point2f along_x(1, 0), along_y(0, 1), diagonal(0.6f, 0.8f);
+  EXPECT_TRUE(vo::self_similar_along(bars, p, along_x));
+  EXPECT_FALSE(vo::self_similar_along(bars, p, along_y));
+  EXPECT_TRUE(vo::self_similar_along(rows, p, along_x));
+  EXPECT_FALSE(vo::self_similar_along(rows, p, along_y));
+  for (const cv::Point2f& d : {along_x, along_y, diagonal, -along_x}) {
+    EXPECT_FALSE(vo::self_similar_along(noise, p, d));
+    EXPECT_TRUE(vo::self_similar_along(flat, p, d));
+  }
+}
+
 TEST(BundleAdjustment, RecoversPerturbedPosesAndPoints) {
   vo::StereoIntrinsics cam;
   std::mt19937 rng(11);

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace loopscan::vo {
 
@@ -48,6 +49,28 @@ std::vector<cv::Point2f> detect_grid_corners(const cv::Mat& image,
   for (int b : best)
     if (b >= 0) out.push_back(corners[b].pt);
   return out;
+}
+
+bool self_similar_along(const cv::Mat& image, const cv::Point2f& p, const cv::Point2f& direction) {
+  constexpr int kPatch = 11;
+  constexpr double kSelfSimilarNcc = 0.8;
+  const cv::Size size(kPatch, kPatch);
+  auto zero_mean = [&](const cv::Point2f& centre, cv::Mat& patch) {
+    cv::getRectSubPix(image, size, centre, patch, CV_32F);
+    patch -= cv::mean(patch)[0];
+    return cv::norm(patch);
+  };
+  cv::Mat reference, other;
+  const double reference_norm = zero_mean(p, reference);
+  if (reference_norm < 1e-3 * kPatch * kPatch) return true;
+  for (int step = 4; step <= 40; ++step) {
+    const cv::Point2f q = p + static_cast<float>(step) * direction;
+    if (q.x < 0 || q.y < 0 || q.x > image.cols - 1 || q.y > image.rows - 1) break;
+    const double other_norm = zero_mean(q, other);
+    if (other_norm > 0 && reference.dot(other) / (reference_norm * other_norm) > kSelfSimilarNcc)
+      return true;
+  }
+  return false;
 }
 
 namespace {

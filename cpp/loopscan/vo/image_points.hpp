@@ -1,6 +1,7 @@
 #pragma once
-// What the VO picks in a keyframe's left image: corners to track, and the DSO-like points it
-// exports (high-gradient pixels with a stereo depth and their gray value).
+// What the VO picks in a keyframe's left image: corners to track (and which of them look alike
+// along a line), and the DSO-like points it exports (high-gradient pixels with a stereo depth and
+// their gray value).
 #include <vector>
 
 #include <Eigen/Core>
@@ -19,6 +20,12 @@ StereoSearch stereo_search_for(const StereoIntrinsics& camera, const VoConfig& c
 std::vector<cv::Point2f> detect_grid_corners(const cv::Mat& image,
                                              const std::vector<cv::Point2f>& occupied,
                                              const VoConfig& config);
+
+// Whether the image around p (11x11 px) looks like itself again 4-40 px further along the unit
+// `direction` (zero-mean normalised correlation above 0.8), or is flat: a guard rail's beam or
+// posts, a fence, the side of a lane line. A track there ends wherever along that line its
+// search started.
+bool self_similar_along(const cv::Mat& image, const cv::Point2f& p, const cv::Point2f& direction);
 
 struct CameraPoint {
   Eigen::Vector3d p_cam;  // left camera frame

@@ -227,7 +227,26 @@ bool StereoVo::track_from_standstill(const std::vector<cv::Mat>& pyramid, Eigen:
   // fences) to its nearest copy and locks the VO onto a fraction of its speed; near structure
   // at speed is lost. Forward motions up to 4 m a frame (40 m/s at 10 Hz) in steps of 0.5 m,
   // a quarter of that period: the one whose pose keeps most tracks wins (ties: the slower).
+  // Tracks are counted only where their image is not self-similar along the direction forward
+  // motion moves them (away from the principal point): those agree with any speed.
   const std::vector<Track> start = tracks_;
+  std::vector<int> decisive;  // point ids
+  const cv::Point2f centre(static_cast<float>(camera_.cx), static_cast<float>(camera_.cy));
+  for (const Track& t : start) {
+    const cv::Point2f away = t.px - centre;
+    const float length = std::hypot(away.x, away.y);
+    if (length > 1 && !self_similar_along(previous_left_, t.px, away / length))
+      decisive.push_back(t.point);
+  }
+  std::sort(decisive.begin(), decisive.end());
+  const bool count_decisive = static_cast<int>(decisive.size()) >= config_.min_inliers;
+  auto score = [&] {
+    if (!count_decisive) return static_cast<int>(tracks_.size());
+    int n = 0;
+    for (const Track& t : tracks_)
+      n += std::binary_search(decisive.begin(), decisive.end(), t.point) ? 1 : 0;
+    return n;
+  };
   int best = -1;
   std::vector<Track> best_tracks;
   FrameResult best_result = r;
@@ -236,9 +255,10 @@ bool StereoVo::track_from_standstill(const std::vector<cv::Mat>& pyramid, Eigen:
     FrameResult attempt = r;
     Eigen::Isometry3d pose;
     const Eigen::Isometry3d guess = last_pose_ * Eigen::Translation3d(0.0, 0.0, 0.5 * step);
-    if (!track(guess, pyramid, attempt) || !estimate_pose(pose, attempt) || attempt.inliers <= best)
-      continue;
-    best = attempt.inliers;
+    if (!track(guess, pyramid, attempt) || !estimate_pose(pose, attempt)) continue;
+    const int votes = score();  // tracks_ now holds the pose's inliers
+    if (votes <= best) continue;
+    best = votes;
     best_tracks = tracks_;
     best_result = attempt;
     T = pose;
