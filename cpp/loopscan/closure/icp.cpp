@@ -7,6 +7,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "loopscan/core/rigid_motion.hpp"
+
 namespace loopscan::closure {
 namespace {
 
@@ -17,12 +19,7 @@ constexpr double kPointToPointWeight = 0.3;
 const Eigen::Vector3d kUp(0.0, -1.0, 0.0);
 
 Eigen::Isometry3d exp_se3(const Eigen::Matrix<double, 6, 1>& delta) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  const Eigen::Vector3d w = delta.tail<3>();
-  const double angle = w.norm();
-  if (angle > 0) T.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-  T.translation() = delta.head<3>();
-  return T;
+  return rigid_motion(delta.tail<3>(), delta.head<3>());
 }
 
 // One Gauss-Newton step over every `stride`-th source point's correspondence within

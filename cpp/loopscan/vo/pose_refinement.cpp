@@ -4,6 +4,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "loopscan/core/rigid_motion.hpp"
+
 namespace loopscan::vo {
 namespace {
 
@@ -11,16 +13,6 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
   m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
   return m;
-}
-
-// exp of a twist (rotation vector, translation), applied on the left.
-Eigen::Isometry3d exp_twist(const Eigen::Matrix<double, 6, 1>& xi) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  const Eigen::Vector3d w = xi.head<3>();
-  const double angle = w.norm();
-  if (angle > 0) T.linear() = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
-  T.translation() = xi.tail<3>();
-  return T;
 }
 
 }  // namespace
@@ -75,7 +67,7 @@ bool refine_pose(Eigen::Isometry3d& T_cam_world, const std::vector<UncertainPoin
     if (used < 3) return false;
     const Eigen::Matrix<double, 6, 1> step = H.ldlt().solve(-g);
     if (!step.allFinite()) return false;
-    T = exp_twist(step) * T;
+    T = rigid_motion(step.head<3>(), step.tail<3>()) * T;  // applied on the left
     if (step.norm() < 1e-10) break;
   }
   T_cam_world = T;

@@ -6,6 +6,8 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include "loopscan/core/rigid_motion.hpp"
+
 namespace loopscan::vo {
 namespace {
 
@@ -54,12 +56,8 @@ void pose_to_block(const Eigen::Isometry3d& T, double* block) {
 }
 
 Eigen::Isometry3d block_to_pose(const double* block) {
-  const Eigen::Vector3d r(block[0], block[1], block[2]);
-  const double angle = r.norm();
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (angle > 0) T.linear() = Eigen::AngleAxisd(angle, r / angle).toRotationMatrix();
-  T.translation() = Eigen::Vector3d(block[3], block[4], block[5]);
-  return T;
+  return rigid_motion(Eigen::Vector3d(block[0], block[1], block[2]),
+                      Eigen::Vector3d(block[3], block[4], block[5]));
 }
 
 }  // namespace
