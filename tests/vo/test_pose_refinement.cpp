@@ -91,7 +91,11 @@ TEST(PoseRefinement, ExactPointsMatchOpenCvsLeastSquares) {
         object, image, K, cv::noArray(), rvec, tvec,
         cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-12));
     const Eigen::Vector3d t_cv(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+    const Eigen::Vector3d r_cv(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2));
+    const Eigen::Matrix3d R_cv =
+        Eigen::AngleAxisd(r_cv.norm(), r_cv.normalized()).toRotationMatrix();
     EXPECT_LT((T.translation() - t_cv).norm(), 1e-6) << "seed " << seed;
+    EXPECT_LT(Eigen::AngleAxisd(T.linear().transpose() * R_cv).angle(), 1e-8) << "seed " << seed;
     // And the noise did move it off the truth, so the comparison is not trivially at the start.
     EXPECT_GT((T.translation() - truth.translation()).norm(), 1e-4) << "seed " << seed;
   }
@@ -159,6 +163,41 @@ TEST(PoseRefinement, WeightingByStereoCovarianceBeatsTreatingPointsAsExact) {
   }
   EXPECT_LT(weighted, 0.8 * unweighted) << weighted / trials << " vs " << unweighted / trials;
   EXPECT_GT(better, trials / 2);
+}
+
+// A fifth of the tracks are gross outliers (20-60 px off): with the Huber loss the pose stays
+// near the truth, and an unbounded squared loss is pulled far off by the same data.
+TEST(PoseRefinement, TheRobustLossResistsGrossOutliers) {
+  const vo::StereoIntrinsics c;
+  std::mt19937 rng(21);
+  const Eigen::Isometry3d truth = pose_from(5, {0.5, -0.2, -4.0});
+  const auto points = scene(truth, c, 100, rng);
+  std::normal_distribution<double> noise(0, 0.5);
+  std::uniform_real_distribution<double> gross(20, 60);
+  std::vector<Eigen::Vector2d> obs;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    obs.push_back(project(c, truth * points[i].position) + Eigen::Vector2d(noise(rng), noise(rng)));
+    if (i % 5 == 0) obs.back() += Eigen::Vector2d(gross(rng), gross(rng));
+  }
+  const Eigen::Isometry3d start = pose_from(6, {0.4, -0.1, -3.8});
+  vo::PoseRefinementConfig robust, squared;
+  robust.iterations = squared.iterations = 30;
+  squared.huber_mahalanobis = 1e12;
+  Eigen::Isometry3d a = start, b = start;
+  ASSERT_TRUE(vo::refine_pose(a, points, obs, c, robust));
+  ASSERT_TRUE(vo::refine_pose(b, points, obs, c, squared));
+  const double ea = (a.translation() - truth.translation()).norm();
+  const double eb = (b.translation() - truth.translation()).norm();
+  EXPECT_LT(ea, 0.05);
+  EXPECT_GT(eb, 3 * ea);
+}
+
+TEST(PoseRefinement, MismatchedSizesAreRefused) {
+  const vo::StereoIntrinsics c;
+  std::mt19937 rng(2);
+  const auto points = scene(Eigen::Isometry3d::Identity(), c, 10, rng);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  EXPECT_FALSE(vo::refine_pose(T, points, std::vector<Eigen::Vector2d>(9), c));
 }
 
 TEST(PoseRefinement, TooFewPointsInFrontLeaveThePoseUnchanged) {

@@ -223,7 +223,11 @@ TEST(Corners, SelfSimilarAlongALineOnlyWhereThePatternRepeats) {
   for (const cv::Point2f& d : {along_x, along_y, diagonal, -along_x}) {
     EXPECT_FALSE(vo::self_similar_along(noise, p, d));
     EXPECT_TRUE(vo::self_similar_along(flat, p, d));
+    EXPECT_FALSE(vo::self_similar_along(noise, p, 7.0f * d)) << "any length of direction";
   }
+  // Nothing to look along; a patch that does not fit whole cannot count as distinctive.
+  EXPECT_FALSE(vo::self_similar_along(noise, p, cv::Point2f(0, 0)));
+  EXPECT_TRUE(vo::self_similar_along(noise, cv::Point2f(2.0f, 50.0f), along_y));
 }
 
 TEST(BundleAdjustment, RecoversPerturbedPosesAndPoints) {

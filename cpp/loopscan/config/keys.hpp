@@ -304,7 +304,7 @@ void visit_vo(V& v, Configuration& c) {
   v.key("ransac_iterations", o.ransac_iterations, closed(1, 1e6), "");
   v.key("track_sigma_px", o.track_sigma_px, above(0, 100), "pose weights: tracking noise");
   v.key("stereo_sigma_px", o.stereo_sigma_px, closed(0, 100),
-        "... and disparity noise (0: map points exact)");
+        "... and disparity noise (0: no depth uncertainty)");
   v.key("min_inliers", o.min_inliers, closed(4, 1e6), "fewer: the VO resets");
   v.key("max_step_m", o.max_step_m, above(0, 1e6), "a larger jump between frames: reset");
   v.key("stereo_half_window", o.stereo_half_window, closed(1, 10), "SAD window half size (px)");

@@ -54,18 +54,29 @@ std::vector<cv::Point2f> detect_grid_corners(const cv::Mat& image,
 bool self_similar_along(const cv::Mat& image, const cv::Point2f& p, const cv::Point2f& direction) {
   constexpr int kPatch = 11;
   constexpr double kSelfSimilarNcc = 0.8;
+  constexpr double kFlatRms = 1.0;  // gray levels
+  const float length = std::hypot(direction.x, direction.y);
+  if (!(length > 0)) return false;  // no line to look along
+  const cv::Point2f unit = direction / length;
   const cv::Size size(kPatch, kPatch);
+  const float half = kPatch / 2 + 1;
+  auto inside = [&](const cv::Point2f& q) {
+    return q.x >= half && q.y >= half && q.x <= image.cols - 1 - half &&
+           q.y <= image.rows - 1 - half;
+  };
   auto zero_mean = [&](const cv::Point2f& centre, cv::Mat& patch) {
     cv::getRectSubPix(image, size, centre, patch, CV_32F);
     patch -= cv::mean(patch)[0];
     return cv::norm(patch);
   };
+  // A patch that cannot be compared whole is not evidence of anything: counted as alike.
+  if (!inside(p)) return true;
   cv::Mat reference, other;
   const double reference_norm = zero_mean(p, reference);
-  if (reference_norm < 1e-3 * kPatch * kPatch) return true;
+  if (reference_norm < kFlatRms * kPatch) return true;
   for (int step = 4; step <= 40; ++step) {
-    const cv::Point2f q = p + static_cast<float>(step) * direction;
-    if (q.x < 0 || q.y < 0 || q.x > image.cols - 1 || q.y > image.rows - 1) break;
+    const cv::Point2f q = p + static_cast<float>(step) * unit;
+    if (!inside(q)) break;
     const double other_norm = zero_mean(q, other);
     if (other_norm > 0 && reference.dot(other) / (reference_norm * other_norm) > kSelfSimilarNcc)
       return true;

@@ -21,10 +21,11 @@ std::vector<cv::Point2f> detect_grid_corners(const cv::Mat& image,
                                              const std::vector<cv::Point2f>& occupied,
                                              const VoConfig& config);
 
-// Whether the image around p (11x11 px) looks like itself again 4-40 px further along the unit
-// `direction` (zero-mean normalised correlation above 0.8), or is flat: a guard rail's beam or
-// posts, a fence, the side of a lane line. A track there ends wherever along that line its
-// search started.
+// Whether the image around p (11x11 px) looks like itself again 4-40 px further along
+// `direction` (zero-mean normalised correlation above 0.8), is flat (RMS below 1 gray level) or
+// too near the border to compare whole: a guard rail's beam or posts, a fence, the side of a
+// lane line. A track there ends wherever along that line its search started. A zero direction:
+// false.
 bool self_similar_along(const cv::Mat& image, const cv::Point2f& p, const cv::Point2f& direction);
 
 struct CameraPoint {

@@ -28,11 +28,14 @@ struct PoseRefinementConfig {
   double sigma_px = 0.5;           // tracking noise per image axis
   double huber_mahalanobis = 2.5;  // robust loss threshold on the whitened residual's norm
   int iterations = 10;
+  double min_depth_m = 0.1;  // nearer points (in the camera frame) are left out
 };
 
 // Refines world-to-camera T_cam_world by Gauss-Newton on the covariance-whitened residuals
-// (Huber-weighted), starting from the given pose. Points behind the camera are left out.
-// Returns false (T unchanged) when fewer than three points are usable or a step is not finite.
+// (Huber-weighted), starting from the given pose; a step that does not lower the cost is halved
+// (at most 5 times), then the refinement ends. Points nearer than min_depth_m at the start and
+// non-finite data are left out. Returns false (T unchanged) when sizes differ, fewer than three
+// points are usable or the system is not finite.
 bool refine_pose(Eigen::Isometry3d& T_cam_world, const std::vector<UncertainPoint>& points,
                  const std::vector<Eigen::Vector2d>& observations, const StereoIntrinsics& camera,
                  const PoseRefinementConfig& config = {});

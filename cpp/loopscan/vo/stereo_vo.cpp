@@ -7,6 +7,7 @@
 #include <map>
 #include <stdexcept>
 #include <unordered_map>
+#include <utility>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -226,9 +227,10 @@ bool StereoVo::track_from_standstill(const std::vector<cv::Mat>& pyramid, Eigen:
   // Tracking from a standstill follows a periodic structure (guard rail posts every 2 m,
   // fences) to its nearest copy and locks the VO onto a fraction of its speed; near structure
   // at speed is lost. Forward motions up to 4 m a frame (40 m/s at 10 Hz) in steps of 0.5 m,
-  // a quarter of that period: the one whose pose keeps most tracks wins (ties: the slower).
-  // Tracks are counted only where their image is not self-similar along the direction forward
-  // motion moves them (away from the principal point): those agree with any speed.
+  // a quarter of that period: the one whose pose keeps most tracks wins (ties: more tracks of
+  // any kind, then the slower). Tracks are counted only where their image is not self-similar
+  // along the direction forward motion moves them (away from the principal point): those
+  // agree with any speed. With fewer such tracks than min_inliers all are counted.
   const std::vector<Track> start = tracks_;
   std::vector<int> decisive;  // point ids
   const cv::Point2f centre(static_cast<float>(camera_.cx), static_cast<float>(camera_.cy));
@@ -240,14 +242,15 @@ bool StereoVo::track_from_standstill(const std::vector<cv::Mat>& pyramid, Eigen:
   }
   std::sort(decisive.begin(), decisive.end());
   const bool count_decisive = static_cast<int>(decisive.size()) >= config_.min_inliers;
-  auto score = [&] {
-    if (!count_decisive) return static_cast<int>(tracks_.size());
+  auto score = [&] {  // (votes, inliers)
+    const int inliers = static_cast<int>(tracks_.size());
+    if (!count_decisive) return std::make_pair(inliers, inliers);
     int n = 0;
     for (const Track& t : tracks_)
       n += std::binary_search(decisive.begin(), decisive.end(), t.point) ? 1 : 0;
-    return n;
+    return std::make_pair(n, inliers);
   };
-  int best = -1;
+  std::pair<int, int> best(-1, -1);
   std::vector<Track> best_tracks;
   FrameResult best_result = r;
   for (int step = 0; step <= 8; ++step) {
@@ -256,7 +259,7 @@ bool StereoVo::track_from_standstill(const std::vector<cv::Mat>& pyramid, Eigen:
     Eigen::Isometry3d pose;
     const Eigen::Isometry3d guess = last_pose_ * Eigen::Translation3d(0.0, 0.0, 0.5 * step);
     if (!track(guess, pyramid, attempt) || !estimate_pose(pose, attempt)) continue;
-    const int votes = score();  // tracks_ now holds the pose's inliers
+    const std::pair<int, int> votes = score();  // tracks_ now holds the pose's inliers
     if (votes <= best) continue;
     best = votes;
     best_tracks = tracks_;
@@ -266,7 +269,7 @@ bool StereoVo::track_from_standstill(const std::vector<cv::Mat>& pyramid, Eigen:
   tracks_ = std::move(best_tracks);
   r = best_result;
   r.tracked = static_cast<int>(tracks_.size());
-  return best >= 0;
+  return best.first >= 0;
 }
 
 bool StereoVo::estimate_pose(Eigen::Isometry3d& T, FrameResult& r) {
@@ -350,6 +353,8 @@ void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right
     if (!std::isfinite(d) || d <= 0) continue;
     const int id = static_cast<int>(map_.size());
     map_.push_back(T * back_project(camera_, c.x, c.y, d));
+    // Kept from the triangulation: the window's adjustment refines the point but its
+    // covariance stays this (conservative) one.
     map_covariance_.push_back(T.linear() * corner_covariance(c.x, c.y, d) * T.linear().transpose());
     tracks_.push_back({id, c});
     kf.observations.push_back({id, c.x, c.y, c.x - d});

@@ -25,7 +25,8 @@ struct VoConfig {
   double forward_backward_px = 1.0;
   // Pose: P3P RANSAC, then Gauss-Newton on the inliers, each reprojection weighted by the
   // tracking noise plus its map point's stereo covariance seen from the frame (standard
-  // deviations in px; stereo_sigma_px 0 treats the points as exact).
+  // deviations in px; the point's pixel noise is track_sigma_px, its disparity noise
+  // stereo_sigma_px: 0 leaves no depth uncertainty).
   double ransac_reprojection_px = 2.0;
   int ransac_iterations = 100;
   double track_sigma_px = 1.0, stereo_sigma_px = 0.5;
