@@ -20,30 +20,43 @@
 namespace loopscan {
 namespace {
 
+struct Drive {
+  eval::OdometryMetrics metrics;
+  int resets = 0;
+  double path_m = 0;
+};
+
+// The VO over the route's first `frames` rendered frames, against the route's poses, in 10-40 m
+// segments starting every `step_frames`.
+Drive drive(const test::RenderedRoute& road, int frames, int step_frames) {
+  vo::StereoVo vo(test::vo_intrinsics(road.camera));
+  std::vector<Eigen::Isometry3d> gt;
+  Drive d;
+  for (int f = 0; f < frames; ++f) {
+    d.resets += vo.process(f, road.render(f, 0), road.render(f, 1)).reset ? 1 : 0;
+    gt.push_back(road.route.T_world_cam[0].inverse() * road.route.T_world_cam[f]);
+  }
+  vo.finish();
+  eval::OdometryOptions o;
+  o.segment_lengths_m = {10, 20, 30, 40};
+  o.step_frames = step_frames;
+  d.metrics = eval::odometry_metrics(gt, vo.trajectory(), o);
+  d.path_m = eval::path_distances(gt).back();
+  return d;
+}
+
 // From a standstill the rail's posts (2 m apart, 2.5 m driven a frame) track to their nearest
 // copy: without a motion hypothesis search the VO locks onto 0.5 m a frame (Sim(3) scale 5.03);
 // near structure grows by up to 25 % between frames, which a translation-only tracker loses.
 TEST(StereoVoOpenRoad, KeepsItsScaleAt25MetresASecondBesideGuardRails) {
-  const test::RenderedRoute road("highway", sim::open_road_world_config(), 1.0);
-  vo::StereoVo vo(test::vo_intrinsics(road.camera));
-  std::vector<Eigen::Isometry3d> gt;
-  int resets = 0;
-  const int frames = 40;
-  for (int f = 0; f < frames; ++f) {
-    resets += vo.process(f, road.render(f, 0), road.render(f, 1)).reset ? 1 : 0;
-    gt.push_back(road.route.T_world_cam[0].inverse() * road.route.T_world_cam[f]);
-  }
-  vo.finish();
-  ASSERT_GT(eval::path_distances(gt).back(), 95.0);  // 2.5 m a frame
-  eval::OdometryOptions o;
-  o.segment_lengths_m = {10, 20, 30, 40};
-  o.step_frames = 1;
-  const eval::OdometryMetrics m = eval::odometry_metrics(gt, vo.trajectory(), o);
+  const Drive d = drive(test::RenderedRoute("highway", sim::open_road_world_config(), 1.0), 40, 1);
+  ASSERT_GT(d.path_m, 95.0);  // 2.5 m a frame
+  const eval::OdometryMetrics& m = d.metrics;
   std::printf(
       "open road, 97.5 m at 25 m/s: translation %.2f %%, Sim(3) scale %.4f, ATE %.3f m "
       "(%.3f m after Sim(3)), %d resets\n",
-      m.translation_percent, m.sim3_scale, m.ate_rmse_m, m.ate_sim3_rmse_m, resets);
-  EXPECT_EQ(resets, 0);
+      m.translation_percent, m.sim3_scale, m.ate_rmse_m, m.ate_sim3_rmse_m, d.resets);
+  EXPECT_EQ(d.resets, 0);
   EXPECT_LT(m.translation_percent, 4.0);
   EXPECT_NEAR(m.sim3_scale, 1.0, 0.04);
 }
@@ -85,23 +98,15 @@ TEST(StereoVoOpenRoad, FirstMotionIsNotOutvotedByTheRail) {
 TEST(StereoVoOpenRoad, StartsASparseRoadAtKitti01sPaceWithoutResets) {
   const std::string poses = test::shared_dir() + "/data/kitti/poses/01.txt";
   LOOPSCAN_SKIP_WITHOUT_SHARED(std::filesystem::exists(poses), poses);
-  const test::RenderedRoute road(sim::trajectory_from_kitti(io::read_kitti_poses(poses), poses),
-                                 sim::open_road_world_config(), 1.0);
-  vo::StereoVo vo(test::vo_intrinsics(road.camera));
-  std::vector<Eigen::Isometry3d> gt;
-  int resets = 0;
-  for (int f = 0; f < 51; ++f) {
-    resets += vo.process(f, road.render(f, 0), road.render(f, 1)).reset ? 1 : 0;
-    gt.push_back(road.route.T_world_cam[0].inverse() * road.route.T_world_cam[f]);
-  }
-  vo.finish();
-  eval::OdometryOptions o;
-  o.segment_lengths_m = {10, 20, 30, 40};
-  const eval::OdometryMetrics m = eval::odometry_metrics(gt, vo.trajectory(), o);
+  const Drive d =
+      drive(test::RenderedRoute(sim::trajectory_from_kitti(io::read_kitti_poses(poses), poses),
+                                sim::open_road_world_config(), 1.0),
+            51, eval::OdometryOptions{}.step_frames);
+  const eval::OdometryMetrics& m = d.metrics;
   std::printf(
       "KITTI 01's start on the open road: translation %.2f %%, Sim(3) scale %.4f, %d resets\n",
-      m.translation_percent, m.sim3_scale, resets);
-  EXPECT_EQ(resets, 0);
+      m.translation_percent, m.sim3_scale, d.resets);
+  EXPECT_EQ(d.resets, 0);
   EXPECT_LT(m.translation_percent, 3.0);
   EXPECT_NEAR(m.sim3_scale, 1.0, 0.025);
 }

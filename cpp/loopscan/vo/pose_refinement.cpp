@@ -63,25 +63,27 @@ Linearisation linearise(const Eigen::Isometry3d& T, const std::vector<UncertainP
       continue;
     }
     const double iz = 1.0 / p.z();
+    const Eigen::Vector2d r(camera.fx * p.x() * iz + camera.cx - observations[i].x(),
+                            camera.fy * p.y() * iz + camera.cy - observations[i].y());
+    // Huber on the Mahalanobis norm: a track that lost its point counts only linearly.
+    const auto huber = [&](const Eigen::Matrix2d& information) {
+      const double m = std::sqrt(r.dot(information * r));
+      out.cost += m <= k ? 0.5 * m * m : k * (m - 0.5 * k);
+      return m <= k ? 1.0 : k / m;  // the robust weight
+    };
+    if (!with_derivatives) {
+      huber((*frozen)[u]);
+      continue;
+    }
     Eigen::Matrix<double, 2, 3> J_proj;
     J_proj << camera.fx * iz, 0, -camera.fx * p.x() * iz * iz, 0, camera.fy * iz,
         -camera.fy * p.y() * iz * iz;
-    const Eigen::Vector2d r(camera.fx * p.x() * iz + camera.cx - observations[i].x(),
-                            camera.fy * p.y() * iz + camera.cy - observations[i].y());
-    Eigen::Matrix2d information;
-    if (with_derivatives) {
-      const Eigen::Matrix<double, 2, 3> J_point = J_proj * T.linear();
-      information = (pixel_noise + J_point * points[i].covariance * J_point.transpose()).inverse();
-      if (!information.allFinite()) information.setZero();
-      out.information.push_back(information);
-    } else {
-      information = (*frozen)[u];
-    }
-    // Huber on the Mahalanobis norm: a track that lost its point counts only linearly.
-    const double m = std::sqrt(r.dot(information * r));
-    out.cost += m <= k ? 0.5 * m * m : k * (m - 0.5 * k);
-    if (!with_derivatives) continue;
-    const double robust = m <= k ? 1.0 : k / m;
+    const Eigen::Matrix<double, 2, 3> J_point = J_proj * T.linear();
+    Eigen::Matrix2d information =
+        (pixel_noise + J_point * points[i].covariance * J_point.transpose()).inverse();
+    if (!information.allFinite()) information.setZero();
+    out.information.push_back(information);
+    const double robust = huber(information);
     Eigen::Matrix<double, 3, 6> J_twist;  // d p / d (rotation, translation), left increment
     J_twist << -skew(p), Eigen::Matrix3d::Identity();
     const Eigen::Matrix<double, 2, 6> J = J_proj * J_twist;

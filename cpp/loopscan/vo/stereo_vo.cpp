@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "loopscan/core/rigid_motion.hpp"
 #include "loopscan/core/timing.hpp"
 #include "loopscan/vo/pose_refinement.hpp"
 
@@ -26,14 +27,8 @@ double rotation_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 }
 
 Eigen::Isometry3d from_rvec_tvec(const cv::Mat& rvec, const cv::Mat& tvec) {
-  cv::Mat R;
-  cv::Rodrigues(rvec, R);
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) T.linear()(i, j) = R.at<double>(i, j);
-    T.translation()[i] = tvec.at<double>(i);
-  }
-  return T;
+  return rigid_motion({rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2)},
+                      {tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)});
 }
 
 bool project(const StereoIntrinsics& c, const Eigen::Vector3d& p, cv::Point2f& px) {
@@ -228,27 +223,25 @@ bool StereoVo::track_from_standstill(const std::vector<cv::Mat>& pyramid, Eigen:
   // fences) to its nearest copy and locks the VO onto a fraction of its speed; near structure
   // at speed is lost. Forward motions up to 4 m a frame (40 m/s at 10 Hz) in steps of 0.5 m,
   // a quarter of that period: the one whose pose keeps most tracks wins (ties: more tracks of
-  // any kind, then the slower). Tracks are counted only where their image is not self-similar
-  // along the direction forward motion moves them (away from the principal point): those
-  // agree with any speed. With fewer such tracks than min_inliers all are counted.
+  // any kind, then the slower). Tracks vote only where their image is not self-similar along
+  // the direction forward motion moves them (away from the principal point): those agree with
+  // any speed. With fewer such tracks than min_inliers all vote.
   const std::vector<Track> start = tracks_;
-  std::vector<int> decisive;  // point ids
+  std::vector<int> decisive, everyone;  // point ids
   const cv::Point2f centre(static_cast<float>(camera_.cx), static_cast<float>(camera_.cy));
   for (const Track& t : start) {
+    everyone.push_back(t.point);
     const cv::Point2f away = t.px - centre;
-    const float length = std::hypot(away.x, away.y);
-    if (length > 1 && !self_similar_along(previous_left_, t.px, away / length))
+    if (std::hypot(away.x, away.y) > 1 && !self_similar_along(previous_left_, t.px, away))
       decisive.push_back(t.point);
   }
+  if (static_cast<int>(decisive.size()) < config_.min_inliers) decisive = std::move(everyone);
   std::sort(decisive.begin(), decisive.end());
-  const bool count_decisive = static_cast<int>(decisive.size()) >= config_.min_inliers;
   auto score = [&] {  // (votes, inliers)
-    const int inliers = static_cast<int>(tracks_.size());
-    if (!count_decisive) return std::make_pair(inliers, inliers);
-    int n = 0;
+    int votes = 0;
     for (const Track& t : tracks_)
-      n += std::binary_search(decisive.begin(), decisive.end(), t.point) ? 1 : 0;
-    return std::make_pair(n, inliers);
+      votes += std::binary_search(decisive.begin(), decisive.end(), t.point) ? 1 : 0;
+    return std::make_pair(votes, static_cast<int>(tracks_.size()));
   };
   std::pair<int, int> best(-1, -1);
   std::vector<Track> best_tracks;
@@ -331,11 +324,6 @@ double StereoVo::right_u(const cv::Mat& left, const cv::Mat& right, float u, flo
   return std::isfinite(d) && d > 0 ? u - d : kNaN;
 }
 
-Eigen::Matrix3d StereoVo::corner_covariance(double u, double v, double disparity) const {
-  return stereo_point_covariance(camera_, u, v, disparity, config_.track_sigma_px * px_scale_,
-                                 config_.stereo_sigma_px * px_scale_);
-}
-
 void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right,
                             Eigen::Isometry3d& T, bool reset) {
   auto t0 = Clock::now();
@@ -355,7 +343,10 @@ void StereoVo::add_keyframe(int frame, const cv::Mat& left, const cv::Mat& right
     map_.push_back(T * back_project(camera_, c.x, c.y, d));
     // Kept from the triangulation: the window's adjustment refines the point but its
     // covariance stays this (conservative) one.
-    map_covariance_.push_back(T.linear() * corner_covariance(c.x, c.y, d) * T.linear().transpose());
+    const Eigen::Matrix3d covariance =
+        stereo_point_covariance(camera_, c.x, c.y, d, config_.track_sigma_px * px_scale_,
+                                config_.stereo_sigma_px * px_scale_);
+    map_covariance_.push_back(T.linear() * covariance * T.linear().transpose());
     tracks_.push_back({id, c});
     kf.observations.push_back({id, c.x, c.y, c.x - d});
   }

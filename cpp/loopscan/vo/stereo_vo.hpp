@@ -107,8 +107,6 @@ class StereoVo {
   void start_window_ba();
   Eigen::Isometry3d apply_window_ba();
   void finish_oldest();
-  // A new map point's covariance in its keyframe's camera frame.
-  Eigen::Matrix3d corner_covariance(double u, double v, double disparity) const;
   double right_u(const cv::Mat& left, const cv::Mat& right, float u, float v) const;
 
   StereoIntrinsics camera_;
