@@ -4,11 +4,14 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "loopscan/io/errors.hpp"
+#include "loopscan/io/ground_truth_files.hpp"
 #include "loopscan/io/kitti_sequence.hpp"
 #include "loopscan/io/png.hpp"
+#include "loopscan/io/sodso.hpp"
 
 #include "cli/cli_support.hpp"
 #include "support/test_support.hpp"
@@ -92,6 +95,67 @@ TEST(Cli, SimulateWritesVoExportThatDescribeReads) {
         config(d, "b6", sc + "    frame: camera\n    lateral_offset_m: .inf\n")}) {
     const CliResult r6 = run("describe --method sc" + bad + vo + " --out " + (d / "bad").string());
     EXPECT_EQ(r6.code, 2) << bad << ": " << r6.output;
+    EXPECT_FALSE(fs::exists(d / "bad")) << bad;
+  }
+}
+
+TEST(Cli, SimulateLapsDrivesTheRouteAgainWithNewVoNoise) {
+  const fs::path d = temp_dir("simulate_laps");
+  ASSERT_EQ(run("simulate --trajectory builtin:short --out " + (d / "one").string()).code, 0);
+  const std::string drift = config(d, "drift",
+                                   "simulator:\n  vo:\n    drift_translation_per_m: 0.02\n"
+                                   "    drift_rotation_deg_per_m: 0.06\n");
+  const CliResult r = run("simulate --trajectory builtin:short --laps 2" + drift + " --out " +
+                          (d / "two").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto one = io::read_kitti_poses((d / "one/gt.txt").string());
+  const auto two = io::read_kitti_poses((d / "two/gt.txt").string());
+  // Lap, connector back to the start, the same lap again.
+  const std::size_t n = one.size(), lap = two.size() - n;
+  ASSERT_GT(lap, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ASSERT_TRUE(two[i].isApprox(one[i], 1e-6)) << i;
+    ASSERT_TRUE(two[lap + i].isApprox(one[i], 1e-6)) << i;
+  }
+  // The VO's noise is new each lap: its error of the motion between the same two frames differs.
+  const std::vector<KeyframePose> vo =
+      io::read_sodso_poses((d / "two/poses_history_file.txt").string());
+  std::map<int, Eigen::Isometry3d> T_vo_cam_world;
+  for (const KeyframePose& k : vo) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.matrix().topRows<3>() = k.T_cam_world;
+    T_vo_cam_world[k.id] = T;
+  }
+  auto motion_error = [&](int a, int b) -> Eigen::Vector3d {
+    Eigen::Isometry3d A = Eigen::Isometry3d::Identity(), B = Eigen::Isometry3d::Identity();
+    A.matrix().topRows<3>() = two[static_cast<std::size_t>(a)];
+    B.matrix().topRows<3>() = two[static_cast<std::size_t>(b)];
+    const Eigen::Isometry3d vo_motion = T_vo_cam_world[a] * T_vo_cam_world[b].inverse();
+    return (vo_motion.inverse() * (A.inverse() * B)).translation();
+  };
+  int compared = 0;
+  double largest_difference = 0;
+  for (auto it = T_vo_cam_world.begin(); std::next(it) != T_vo_cam_world.end(); ++it) {
+    const int a = it->first, b = std::next(it)->first, offset = static_cast<int>(lap);
+    if (b >= static_cast<int>(n) || !T_vo_cam_world.count(a + offset) ||
+        !T_vo_cam_world.count(b + offset))
+      continue;
+    ++compared;
+    largest_difference = std::max(
+        largest_difference, (motion_error(a + offset, b + offset) - motion_error(a, b)).norm());
+  }
+  EXPECT_GT(compared, static_cast<int>(n) / 3);
+  EXPECT_GT(largest_difference, 1e-3);
+  // Mistakes: no lap, and a VO of one drive with laps.
+  for (const std::string& bad : std::vector<std::string>{
+           " --laps 0", " --laps 1.5",
+           " --laps 2 --vo-poses " + (d / "one/poses_history_file.txt").string()}) {
+    const CliResult e =
+        run("simulate --trajectory builtin:short" + bad + " --out " + (d / "bad").string());
+    EXPECT_NE(e.code, 0) << bad;
+    EXPECT_NE(e.output.find(bad.find("vo-poses") != std::string::npos ? "--vo-poses" : "--laps"),
+              std::string::npos)
+        << e.output;
     EXPECT_FALSE(fs::exists(d / "bad")) << bad;
   }
 }

@@ -125,6 +125,58 @@ TEST(SimTrajectory, ShortRouteHasOneRevisit) {
   EXPECT_GT(find_revisits(t).pairs, 20);
 }
 
+TEST(SimTrajectory, LapsDriveTheRouteAgainThroughADrivableConnector) {
+  for (const std::string name : {"city", "short", "reverse"}) {
+    SCOPED_TRACE(name);
+    const Trajectory route = make_builtin_trajectory(name);
+    const std::size_t n = route.T_world_cam.size();
+    const std::vector<Eigen::Isometry3d> connector = connector_back_to_start(route);
+    const Trajectory laps = drive_laps(route, 3);
+    ASSERT_EQ(laps.T_world_cam.size(), 3 * n + 2 * connector.size());
+    // Every lap is the route itself, frame for frame.
+    for (std::size_t lap = 0; lap < 3; ++lap) {
+      const std::size_t first = lap * (n + connector.size());
+      for (std::size_t i = 0; i < n; ++i)
+        ASSERT_TRUE(laps.T_world_cam[first + i].isApprox(route.T_world_cam[i], 1e-12)) << i;
+    }
+    // The route ends away from its start: the connector is a real drive back, no shorter than
+    // the gap and no detour (at most the gap plus two full turns), and the whole thing is
+    // drivable (steps ~1 m, heading along the motion, smooth, level).
+    const double gap =
+        (route.T_world_cam.front().translation() - route.T_world_cam.back().translation()).norm();
+    EXPECT_GT(connector.size() + 1, gap * 0.99);
+    const double turns = 4 * kPi * lap_connector_turn_radius_m;
+    EXPECT_LT(connector.size() + 1, gap + turns);
+    double route_length = 0;
+    for (std::size_t i = 1; i < n; ++i)
+      route_length +=
+          (route.T_world_cam[i].translation() - route.T_world_cam[i - 1].translation()).norm();
+    expect_drivable(laps, 3 * route_length + 2 * gap, 3 * route_length + 2 * (gap + turns));
+  }
+  EXPECT_EQ(drive_laps(make_builtin_trajectory("short"), 1).T_world_cam.size(),
+            make_builtin_trajectory("short").T_world_cam.size());
+}
+
+TEST(SimTrajectory, LapsOfALoopNeedNoConnectorAndBadLapsAreRefused) {
+  Trajectory circle;
+  constexpr int kFrames = 314;  // 50 m radius at ~1 m a frame
+  for (int i = 0; i < kFrames; ++i) {
+    const double a = 2 * kPi * i / kFrames;
+    // Driving anticlockwise seen from above (x east, z north): heading = tangent.
+    circle.T_world_cam.push_back(
+        level_pose(50.0 * Eigen::Vector3d(std::sin(a), 0, std::cos(a)), a + kPi / 2));
+  }
+  EXPECT_TRUE(connector_back_to_start(circle).empty());
+  EXPECT_EQ(drive_laps(circle, 4).T_world_cam.size(), 4u * kFrames);
+  expect_drivable(drive_laps(circle, 4), 4 * 2 * kPi * 50 * 0.99, 4 * 2 * kPi * 50 * 1.01);
+  EXPECT_THROW(drive_laps(circle, 0), std::invalid_argument);
+  Trajectory one;
+  one.T_world_cam.push_back(Eigen::Isometry3d::Identity());
+  EXPECT_THROW(drive_laps(one, 2), std::invalid_argument);
+  one.T_world_cam.push_back(Eigen::Isometry3d::Identity());
+  EXPECT_THROW(drive_laps(one, 2), std::invalid_argument);  // does not move
+}
+
 TEST(SimTrajectory, UnknownRouteNameListsBuiltins) {
   try {
     make_builtin_trajectory("nowhere");

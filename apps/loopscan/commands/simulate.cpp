@@ -1,5 +1,6 @@
 // loopscan simulate: a synthetic world and what a stereo VO exports driving through it.
 #include <cstdio>
+#include <stdexcept>
 
 #include "cli/commands.hpp"
 #include "cli/configuration.hpp"
@@ -15,18 +16,29 @@ struct SimulateArgs {
   ConfigFlags config;
   std::string trajectory, vo_poses, season = "summer", out, calib;
   unsigned seed = 1, session = 0;
+  int laps = 1;
   std::vector<int> resets;
 };
 
 void run_simulate(const SimulateArgs& a) {
   const Configuration c = resolve_configuration(a.config);
-  const LoadedTrajectory t = load_trajectory(a.trajectory, c.simulator.world);
+  LoadedTrajectory t = load_trajectory(a.trajectory, c.simulator.world);
+  if (a.laps > 1 && !a.vo_poses.empty())
+    throw std::invalid_argument("--vo-poses gives the VO of one drive: use it without --laps");
   const std::vector<KeyframePose> vo_poses =
       a.vo_poses.empty() ? std::vector<KeyframePose>{} : io::read_sodso_poses(a.vo_poses);
+  // The world is built along one lap and the way back to its start; every lap drives it.
+  std::vector<Eigen::Vector3d> streets = t.trajectory.centres();
+  if (a.laps > 1) {
+    for (const Eigen::Isometry3d& T : sim::connector_back_to_start(t.trajectory))
+      streets.push_back(T.translation());
+    t.trajectory = sim::drive_laps(t.trajectory, a.laps);
+    t.gps = false;  // the connector has no GPS rows: ground truth is written as poses
+  }
   sim::WorldConfig wc = c.simulator.world;
   wc.seed = a.seed;
-  std::printf("building the world along %zu frames ...\n", t.trajectory.T_world_cam.size());
-  const sim::World world = sim::World::build(t.trajectory.centres(), wc);
+  std::printf("building the world along %zu frames ...\n", streets.size());
+  const sim::World world = sim::World::build(streets, wc);
   sim::Conditions conditions = simulated_conditions(c, sim::parse_season(a.season));
   conditions.session_seed = a.session != 0 ? a.session : a.seed;
   const sim::StereoCamera camera = load_camera(a.calib);
@@ -58,6 +70,10 @@ void add_simulate_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--session", a->session, "session seed: parked cars, VO noise (default: seed)");
   cmd->add_option("--calib", a->calib, "ORB-SLAM2 KITTI yaml (default: KITTI 04-12 camera)");
+  cmd->add_option("--laps", a->laps,
+                  "drive the route this many times (a connector back to its start between laps)")
+      ->check(finite_in(1, 1000))
+      ->capture_default_str();
   cmd->add_option("--resets", a->resets, "keyframe ids where the VO restarts")
       ->check(finite_in(0, kMaxCount))
       ->delimiter(',');

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace loopscan::sim {
@@ -153,6 +155,116 @@ std::vector<int> select_keyframes(const Trajectory& trajectory,
     }
   }
   return keyframes;
+}
+
+namespace {
+
+// A Dubins path (shortest drive with a bounded turning radius) of the form turn, straight, turn
+// in the plane (X, Y) with headings theta along (cos, sin); turns: +1 counterclockwise.
+struct TurnStraightTurn {
+  Eigen::Vector2d c1, c2;  // turn centres
+  int s1 = 1, s2 = 1;
+  double theta0 = 0, straight_heading = 0, arc1 = 0, straight = 0, arc2 = 0, radius = 1;
+  double length() const { return arc1 + straight + arc2; }
+
+  static Eigen::Vector2d left(double theta) { return {-std::sin(theta), std::cos(theta)}; }
+  // Pose at arc length `along` (clamped to the path).
+  std::pair<Eigen::Vector2d, double> at(double along) const {
+    if (along <= arc1) {
+      const double theta = theta0 + s1 * along / radius;
+      return {c1 - s1 * radius * left(theta), theta};
+    }
+    const Eigen::Vector2d t1 = c1 - s1 * radius * left(straight_heading);
+    if (along <= arc1 + straight)
+      return {t1 + (along - arc1) *
+                       Eigen::Vector2d(std::cos(straight_heading), std::sin(straight_heading)),
+              straight_heading};
+    const double theta = straight_heading + s2 * std::min(along - arc1 - straight, arc2) / radius;
+    return {c2 - s2 * radius * left(theta), theta};
+  }
+};
+
+double positive_angle(double a) {
+  const double m = std::fmod(a, 2 * kPi);
+  return m < 0 ? m + 2 * kPi : m;
+}
+
+TurnStraightTurn shortest_turn_straight_turn(const Eigen::Vector2d& p0, double theta0,
+                                             const Eigen::Vector2d& p1, double theta1,
+                                             double radius) {
+  TurnStraightTurn best;
+  double best_length = std::numeric_limits<double>::infinity();
+  for (int s1 : {1, -1})
+    for (int s2 : {1, -1}) {
+      TurnStraightTurn path;
+      path.radius = radius;
+      path.s1 = s1;
+      path.s2 = s2;
+      path.theta0 = theta0;
+      path.c1 = p0 + s1 * radius * TurnStraightTurn::left(theta0);
+      path.c2 = p1 + s2 * radius * TurnStraightTurn::left(theta1);
+      const Eigen::Vector2d v = path.c2 - path.c1;
+      const double d = v.norm(), alpha = std::atan2(v.y(), v.x());
+      if (s1 == s2) {  // outer tangent, parallel to the centres' line
+        path.straight = d;
+        path.straight_heading = d > 0 ? alpha : theta0;
+      } else {  // inner tangent: only between circles 2 radii apart
+        if (d < 2 * radius) continue;
+        path.straight = std::sqrt(d * d - 4 * radius * radius);
+        path.straight_heading = alpha + std::atan2(2.0 * s1 * radius, path.straight);
+      }
+      path.arc1 = radius * positive_angle(s1 * (path.straight_heading - theta0));
+      path.arc2 = radius * positive_angle(s2 * (theta1 - path.straight_heading));
+      if (path.length() < best_length) {
+        best_length = path.length();
+        best = path;
+      }
+    }
+  return best;
+}
+
+}  // namespace
+
+std::vector<Eigen::Isometry3d> connector_back_to_start(const Trajectory& route) {
+  const std::vector<Eigen::Isometry3d>& T = route.T_world_cam;
+  if (T.size() < 2) throw std::invalid_argument("laps: a route needs at least two frames");
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < T.size(); ++i)
+    steps.push_back((T[i].translation() - T[i - 1].translation()).norm());
+  const double step = median(steps);
+  if (!(step > 0)) throw std::invalid_argument("laps: the route does not move");
+  const Eigen::Vector3d from = T.back().translation(), to = T.front().translation();
+  const double yaw_from = heading_yaw(T.back()), yaw_to = heading_yaw(T.front());
+  const double turn = std::abs(std::remainder(yaw_to - yaw_from, 2 * kPi));
+  if ((to - from).norm() < 1.5 * step && turn < 10.0 * kPi / 180.0) return {};  // a loop already
+  // In (X, Y) = (z, x) a yaw is the heading angle theta of (cos, sin).
+  const TurnStraightTurn path = shortest_turn_straight_turn(
+      {from.z(), from.x()}, yaw_from, {to.z(), to.x()}, yaw_to, lap_connector_turn_radius_m);
+  // Frames evenly spaced at about the route's step, strictly between its end and its start;
+  // the height goes linearly from one to the other.
+  const double length = path.length();
+  const int frames = std::max(0, static_cast<int>(std::lround(length / step)) - 1);
+  std::vector<Eigen::Isometry3d> out;
+  for (int f = 1; f <= frames; ++f) {
+    const double along = length * f / (frames + 1);
+    const auto [q, theta] = path.at(along);
+    const double y = from.y() + (to.y() - from.y()) * along / length;
+    out.push_back(level_pose(Eigen::Vector3d(q.y(), y, q.x()), std::remainder(theta, 2 * kPi)));
+  }
+  return out;
+}
+
+Trajectory drive_laps(const Trajectory& route, int laps) {
+  if (laps < 1) throw std::invalid_argument("laps: at least 1");
+  if (laps == 1) return route;
+  const std::vector<Eigen::Isometry3d> connector = connector_back_to_start(route);
+  Trajectory t;
+  t.name = route.name + " x" + std::to_string(laps);
+  for (int lap = 0; lap < laps; ++lap) {
+    if (lap > 0) t.T_world_cam.insert(t.T_world_cam.end(), connector.begin(), connector.end());
+    t.T_world_cam.insert(t.T_world_cam.end(), route.T_world_cam.begin(), route.T_world_cam.end());
+  }
+  return t;
 }
 
 }  // namespace loopscan::sim

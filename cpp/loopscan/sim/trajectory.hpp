@@ -41,6 +41,17 @@ inline constexpr double gps_heading_window_m = 4.0;
 Trajectory trajectory_from_gps(const std::vector<Eigen::Vector3d>& northing_easting_down,
                                std::string name);
 
+// The route driven `laps` times (1: the route itself). Unless the route ends where it starts
+// (within 1.5 steps and 10 degrees), each lap after the first is reached by a connector: the
+// shortest turn-straight-turn drive (Dubins) from the route's last pose to its first with turns
+// of lap_connector_turn_radius_m, level cameras at the route's median step, the height linear.
+// Frame ids run on across laps. Fewer than 2 frames, no motion or laps < 1 ->
+// std::invalid_argument.
+inline constexpr double lap_connector_turn_radius_m = 10.0;  // the built-in routes' right turns
+Trajectory drive_laps(const Trajectory& route, int laps);
+// drive_laps's connector alone (empty for a route that is a loop already).
+std::vector<Eigen::Isometry3d> connector_back_to_start(const Trajectory& route);
+
 struct KeyframeSelection {
   double min_distance_m = 1.2;
   double min_rotation_deg = 5.0;
