@@ -52,6 +52,15 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
   EXPECT_GT(m["loops"]["accepted"].get<int>(), 0);
   EXPECT_EQ(m["loops"]["false_accepted"].get<int>(), 0);
   EXPECT_LT(m["ate_after_m"].get<double>(), m["ate_before_m"].get<double>());
+  // What a live system budgets: the latency of one keyframe into the closer, memory, places.
+  const nlohmann::json& latency = m["add_keyframe_latency_ms"];
+  EXPECT_GT(latency["p50"].get<double>(), 0);
+  EXPECT_LE(latency["p50"].get<double>(), latency["p99"].get<double>());
+  EXPECT_LE(latency["p99"].get<double>(), latency["max"].get<double>());
+  // Samples of the whole run's time: at most half of them reach twice their mean (Markov).
+  EXPECT_LE(latency["p50"].get<double>(), 2 * m["ms_per_keyframe"]["total"].get<double>());
+  EXPECT_GT(m["peak_memory_mb"].get<double>(), 1);
+  EXPECT_EQ(m["map_places"].get<int>(), m["described"].get<int>());
   // The short drive revisits its first street: those keyframes are the revisits, some closed.
   EXPECT_GT(m["loops"]["revisit_keyframes"].get<int>(), 10);
   EXPECT_GT(m["loops"]["revisits_closed"].get<int>(), 0);

@@ -82,7 +82,9 @@ void run_close(const CloseArgs& a) {
     std::printf("; ATE %.3f m -> %.3f m", m["ate_before_m"].get<double>(),
                 m["ate_after_m"].get<double>());
   }
-  std::printf("; %.2f ms per keyframe -> %s\n", m["ms_per_keyframe"]["total"].get<double>(),
+  std::printf("; %.2f ms per keyframe (add_keyframe p99 %.1f ms), %zu map places -> %s\n",
+              m["ms_per_keyframe"]["total"].get<double>(),
+              m["add_keyframe_latency_ms"]["p99"].get<double>(), run.map.size(),
               shown(a.out).c_str());
 }
 

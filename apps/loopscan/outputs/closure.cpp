@@ -10,8 +10,11 @@
 #include <map>
 #include <set>
 
+#include <sys/resource.h>
+
 #include "cli/progress.hpp"
 #include "loopscan/core/keyframe_stream.hpp"
+#include "loopscan/eval/latency.hpp"
 #include "loopscan/eval/loop_metrics.hpp"
 #include "loopscan/eval/odometry_metrics.hpp"
 #include "loopscan/eval/protocol.hpp"
@@ -40,6 +43,13 @@ Eigen::Isometry3d gt_pose(const GroundTruth& gt, int id) {
 }
 
 double mean_ms(double total, int count) { return count > 0 ? total / count : 0.0; }
+
+// The process's peak resident memory so far (what `close` needed, its input included).
+double peak_resident_mb() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
 
 // A described keyframe of this session with a true revisit: a place of another session, or of
 // this one added at least 100 places earlier, within `within_m` (the evaluation protocol's
@@ -148,10 +158,15 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
   std::sort(resets.begin(), resets.end());
   int accepted = 0;
   std::size_t done = 0;
+  std::vector<double> add_keyframe_ms;
   StepProgress bar("close loops", "keyframes", !progress);
   for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* first, std::size_t n) {
     const bool reset = std::binary_search(resets.begin(), resets.end(), k.id);
+    const auto start = std::chrono::steady_clock::now();
     accepted += int(closer.add_keyframe(k, first, n, reset).accepted.size());
+    add_keyframe_ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count());
     bar.update(++done, poses.size());
   });
   bar.finish(", " + std::to_string(accepted) + " loops accepted");
@@ -162,6 +177,7 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
   run.closed = closer.corrected_poses();
   run.loops = closer.loops();
   run.times = closer.times();
+  run.add_keyframe_ms = std::move(add_keyframe_ms);
   run.described = closer.times().described;
   run.session = config.recognition.session;
   run.anchored = closer.anchored();
@@ -264,6 +280,7 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
   csv.commit();
 
   const closure::StageTimes& tm = run.times;
+  const eval::LatencySummary latency = eval::summarise_latency(run.add_keyframe_ms);
   nlohmann::json m = {{"method", method_name(c.method)},
                       {"keyframes", run.input.size()},
                       {"described", run.described},
@@ -282,6 +299,9 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
                       {"session", run.session},
                       {"anchored_to_map", run.anchored},
                       {"anchored_at_keyframe", run.anchored_at},
+                      {"add_keyframe_latency_ms",
+                       {{"p50", latency.p50_ms}, {"p99", latency.p99_ms}, {"max", latency.max_ms}}},
+                      {"peak_memory_mb", peak_resident_mb()},
                       {"map_places", run.map.size()},
                       {"map_bytes_per_place",
                        run.map.size() > 0 && !ec ? map_bytes / double(run.map.size()) : 0.0}};

@@ -20,6 +20,7 @@ struct ClosureRun {
   std::vector<closure::Loop> loops;  // every verification
   closure::StageTimes times;
   double total_ms = 0;
+  std::vector<double> add_keyframe_ms;  // each LoopCloser::add_keyframe call, in input order
   int described = 0;
   int session = 0;
   bool anchored = true;  // in the saved map's frame (always true without one)
