@@ -146,16 +146,39 @@ TEST(Cli, SimulateLapsDrivesTheRouteAgainWithNewVoNoise) {
   }
   EXPECT_GT(compared, static_cast<int>(n) / 3);
   EXPECT_GT(largest_difference, 1e-3);
-  // Mistakes: no lap, and a VO of one drive with laps.
-  for (const std::string& bad : std::vector<std::string>{
-           " --laps 0", " --laps 1.5",
-           " --laps 2 --vo-poses " + (d / "one/poses_history_file.txt").string()}) {
+  // A season per lap: the same VO, each keyframe's points those of its lap's season (a
+  // connector belongs to the lap it leads into).
+  for (const char* season : {"summer", "winter", "summer,winter"}) {
+    const CliResult rs = run("simulate --trajectory builtin:short --laps 2 --season " +
+                             std::string(season) + drift + " --out " + (d / season).string());
+    ASSERT_EQ(rs.code, 0) << rs.output;
+  }
+  EXPECT_EQ(read_lines(d / "summer,winter/poses_history_file.txt"),
+            read_lines(d / "summer/poses_history_file.txt"));
+  EXPECT_EQ(read_lines(d / "winter/poses_history_file.txt"),
+            read_lines(d / "summer/poses_history_file.txt"));
+  auto points_of = [&](const char* season, bool second_lap) {
+    std::vector<std::string> out;
+    for (const std::string& line : read_lines(d / season / "pts_history_file.txt"))
+      if ((std::stoi(line) >= static_cast<int>(n)) == second_lap) out.push_back(line);
+    return out;
+  };
+  std::vector<std::string> expected = points_of("summer", false);
+  const std::vector<std::string> winter = points_of("winter", true);
+  expected.insert(expected.end(), winter.begin(), winter.end());
+  EXPECT_EQ(read_lines(d / "summer,winter/pts_history_file.txt"), expected);
+  EXPECT_NE(points_of("summer", true), winter);  // the seasons do differ
+  // Mistakes: no lap, a VO of one drive with laps, seasons without laps or unknown.
+  for (const auto& [bad, named] : std::vector<std::pair<std::string, std::string>>{
+           {" --laps 0", "--laps"},
+           {" --laps 1.5", "--laps"},
+           {" --laps 2 --vo-poses " + (d / "one/poses_history_file.txt").string(), "--vo-poses"},
+           {" --season summer,winter", "--season"},
+           {" --laps 2 --season summer,monsoon", "monsoon"}}) {
     const CliResult e =
         run("simulate --trajectory builtin:short" + bad + " --out " + (d / "bad").string());
     EXPECT_NE(e.code, 0) << bad;
-    EXPECT_NE(e.output.find(bad.find("vo-poses") != std::string::npos ? "--vo-poses" : "--laps"),
-              std::string::npos)
-        << e.output;
+    EXPECT_NE(e.output.find(named), std::string::npos) << e.output;
     EXPECT_FALSE(fs::exists(d / "bad")) << bad;
   }
 }
