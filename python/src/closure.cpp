@@ -34,7 +34,9 @@ void bind_closure(py::module_& m) {
       .def_readonly("described", &KeyframeClosure::described)
       .def_readonly("candidates", &KeyframeClosure::candidates)
       .def_readonly("verified", &KeyframeClosure::verified)
-      .def_readonly("accepted", &KeyframeClosure::accepted);
+      .def_readonly("accepted", &KeyframeClosure::accepted)
+      .def_readonly("linked_place", &KeyframeClosure::linked_place,
+                    "database index of the held place this keyframe linked to (-1: it joined)");
   py::class_<LoopCloser>(m, "LoopCloser",
                          "Online loop closing: recognition, ICP verification, pose graph.")
       .def(py::init([](const std::optional<std::string>& method,

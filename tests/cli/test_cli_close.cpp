@@ -60,13 +60,26 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
   // Samples of the whole run's time: at most half of them reach twice their mean (Markov).
   EXPECT_LE(latency["p50"].get<double>(), 2 * m["ms_per_keyframe"]["total"].get<double>());
   EXPECT_GT(m["peak_memory_mb"].get<double>(), 1);
-  EXPECT_EQ(m["map_places"].get<int>(), m["described"].get<int>());
+  // Revisit keyframes link to the places the map holds; the others join it.
+  EXPECT_GT(m["linked_keyframes"].get<int>(), 0);
+  EXPECT_EQ(m["map_places"].get<int>() + m["linked_keyframes"].get<int>(),
+            m["described"].get<int>());
   // The short drive revisits its first street: those keyframes are the revisits, some closed.
   EXPECT_GT(m["loops"]["revisit_keyframes"].get<int>(), 10);
   EXPECT_GT(m["loops"]["revisits_closed"].get<int>(), 0);
   EXPECT_LE(m["loops"]["revisits_closed"].get<int>(), m["loops"]["revisit_keyframes"].get<int>());
   // The same graph given every revisit's true relative pose undoes most of the drift.
   EXPECT_LT(m["ate_given_true_loops_m"].get<double>(), 0.5 * m["ate_before_m"].get<double>());
+  // Without linking every described keyframe is a place; the revisits are the same keyframes.
+  const path copies = drives() / "copies";
+  const test::CliResult rc =
+      test::run(close_args("summer", copies) +
+                test::config(drives(), "copies", "closure:\n  lifelong:\n    enabled: false\n"));
+  ASSERT_EQ(rc.code, 0) << rc.output;
+  const nlohmann::json mc = nlohmann::json::parse(test::file_bytes(copies / "metrics.json"));
+  EXPECT_EQ(mc["map_places"].get<int>(), mc["described"].get<int>());
+  EXPECT_EQ(mc["linked_keyframes"].get<int>(), 0);
+  EXPECT_EQ(mc["loops"]["revisit_keyframes"], m["loops"]["revisit_keyframes"]);
   for (const char* key : {"scan", "describe", "cloud", "query", "verify", "graph", "total"}) {
     EXPECT_TRUE(m["ms_per_keyframe"].contains(key)) << key;
   }

@@ -23,13 +23,19 @@ struct Drive {
 };
 
 // A built-in route (default: the short one, a block and its first street again) with a
-// drifting VO (default 1 %).
+// drifting VO (default 1 %), driven `laps` times (the world built along one lap and the way
+// back to its start).
 Drive drive(sim::Season season, unsigned session, const std::string& route = "short",
-            double drift_per_m = 0.02) {
-  Drive d{sim::make_builtin_trajectory(route), {}};
+            double drift_per_m = 0.02, int laps = 1) {
+  const sim::Trajectory one_lap = sim::make_builtin_trajectory(route);
+  Drive d{sim::drive_laps(one_lap, laps), {}};
+  std::vector<Eigen::Vector3d> streets = one_lap.centres();
+  if (laps > 1)
+    for (const Eigen::Isometry3d& T : sim::connector_back_to_start(one_lap))
+      streets.push_back(T.translation());
   sim::WorldConfig wc;
   wc.seed = 1;
-  const sim::World world = sim::World::build(d.route.centres(), wc);
+  const sim::World world = sim::World::build(streets, wc);
   sim::Conditions conditions = sim::Conditions::for_season(season);
   conditions.session_seed = session;
   sim::VoSimConfig vo;
@@ -88,13 +94,17 @@ TEST(LoopCloser, ClosesADriftedBlockWithTrueLoopsOnly) {
   EXPECT_LT(after, before / 2) << before << " -> " << after;
   const closure::StageTimes& times = closer.times();
   EXPECT_EQ(times.keyframes, int(d.vo.poses.size()));
-  EXPECT_EQ(closer.database().size(), std::size_t(times.described));
+  // Keyframes at a place the map held linked to it; every other described one joined.
+  EXPECT_GT(times.linked, 0);
+  EXPECT_EQ(closer.database().size(), std::size_t(times.described - times.linked));
   EXPECT_EQ(closer.place_clouds().size(), closer.database().size());
 }
 
 struct Closed {
   double ate_before = 0, ate_after = 0;
   int revisits = 0, closed = 0, false_loops = 0;
+  std::size_t map_places = 0;
+  std::vector<int> joined;       // keyframes whose place joined the map
   std::string false_list;        // query -> match (source, metres apart)
   std::vector<double> whitened;  // per accepted loop: |translation error| in its covariance
 };
@@ -103,11 +113,13 @@ struct Closed {
 // within 10 m of one 100 or more keyframes earlier).
 Closed close_drive(const Drive& d, const closure::LoopCloserConfig& config) {
   closure::LoopCloser closer(config);
+  Closed out;
   stream(d, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
-    closer.add_keyframe(k, p, n);
+    const closure::KeyframeClosure c = closer.add_keyframe(k, p, n);
+    if (c.described && c.linked_place < 0) out.joined.push_back(k.id);
   });
   closer.finish();
-  Closed out;
+  out.map_places = closer.database().size();
   std::vector<Eigen::Vector3d> gt;
   for (const KeyframePose& k : d.vo.poses)
     gt.push_back(d.route.T_world_cam[std::size_t(k.id)].translation());
@@ -185,9 +197,40 @@ TEST(LoopCloser, NeverWorseOnANearlyDriftFreeDrive) {
   }
 }
 
+// The same block driven three times: the later laps link to the places the earlier ones left
+// instead of copying them, and close as many revisits as a map of every copy would.
+TEST(LoopCloser, LapsLinkToTheMapInsteadOfGrowingIt) {
+  const Drive three = drive(sim::Season::Summer, 1, "short", 0.02, 3);
+  closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  const Closed lifelong = close_drive(three, config);
+  config.lifelong.enabled = false;
+  const Closed copies = close_drive(three, config);
+  EXPECT_EQ(lifelong.false_loops, 0) << lifelong.false_list;
+  EXPECT_EQ(copies.false_loops, 0) << copies.false_list;
+  // The third lap (from the start of its route) drives only where the map has been: 174
+  // keyframes, 7 of which joined the map (every one without linking).
+  const int third_lap_start =
+      static_cast<int>(three.route.T_world_cam.size()) -
+      static_cast<int>(sim::make_builtin_trajectory("short").T_world_cam.size());
+  auto joined_in_third_lap = [&](const Closed& c) {
+    return std::count_if(c.joined.begin(), c.joined.end(),
+                         [&](int id) { return id >= third_lap_start; });
+  };
+  int third_lap_keyframes = 0;
+  for (const KeyframePose& k : three.vo.poses) third_lap_keyframes += k.id >= third_lap_start;
+  EXPECT_GT(joined_in_third_lap(copies), 0.9 * third_lap_keyframes);
+  EXPECT_LT(joined_in_third_lap(lifelong), 0.25 * third_lap_keyframes);
+  EXPECT_LT(lifelong.map_places, 0.6 * copies.map_places);
+  EXPECT_GE(lifelong.closed, 0.95 * copies.closed)
+      << lifelong.closed << " of " << lifelong.revisits;
+  EXPECT_LE(lifelong.ate_after, 1.1 * copies.ate_after + 0.05)
+      << copies.ate_after << " with every copy";
+}
+
 TEST(LoopCloser, RecognitionIsTheRecognizersAndRunsAreRepeatable) {
   const Drive& d = summer();
-  const closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  config.lifelong.enabled = false;  // the Recognizer keeps every place
   closure::LoopCloser a(config), b(config);
   RecognizerConfig rc = config.recognition;
   rc.k = config.candidates;

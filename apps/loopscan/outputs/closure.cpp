@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <unordered_map>
 
 #include <sys/resource.h>
 
@@ -52,8 +53,9 @@ double peak_resident_mb() {
 }
 
 // A described keyframe of this session with a true revisit: a place of another session, or of
-// this one added at least 100 places earlier, within `within_m` (the evaluation protocol's
-// ground truth); `partner` is the nearest one.
+// this one described at least 100 keyframes earlier, within `within_m` (the evaluation
+// protocol's ground truth); `partner` is the nearest one. Keyframes that linked to a held place
+// instead of joining the map are revisits too, but never partners.
 struct Revisit {
   int keyframe = 0;
   std::size_t partner = 0;  // index into the run's map
@@ -61,17 +63,32 @@ struct Revisit {
 
 std::vector<Revisit> true_revisits(const ClosureRun& run, const GroundTruth& gt,
                                    const GroundTruth& map_gt, double within_m) {
-  std::vector<Eigen::Vector3d> mine, others;
-  std::vector<std::size_t> mine_index, others_index;  // into the run's map
+  const Eigen::Vector3d absent = Eigen::Vector3d::Constant(std::nan(""));
+  std::unordered_map<int, std::size_t> described_at;  // keyframe id -> described order
+  std::vector<Eigen::Vector3d> mine, mine_in_map, others;
+  std::vector<int> mine_ids;
+  for (int id : run.described_ids) {
+    if (id < 0 || std::size_t(id) >= gt.positions.size()) continue;
+    described_at[id] = mine.size();
+    mine.push_back(gt.positions[std::size_t(id)]);
+    mine_ids.push_back(id);
+  }
+  mine_in_map.assign(mine.size(), absent);  // non-finite: never a partner
+  std::vector<std::size_t> map_index_of(mine.size(), 0), others_index;
   for (std::size_t i = 0; i < run.map.size(); ++i) {
     const PlaceRef p = run.map.place(i);
-    const bool own = p.session == run.session;
-    const GroundTruth& g = own ? gt : map_gt;
-    if (p.keyframe < 0 || std::size_t(p.keyframe) >= g.positions.size()) continue;
-    (own ? mine : others).push_back(g.positions[std::size_t(p.keyframe)]);
-    (own ? mine_index : others_index).push_back(i);
+    if (p.session == run.session) {
+      const auto it = described_at.find(p.keyframe);
+      if (it == described_at.end()) continue;
+      mine_in_map[it->second] = mine[it->second];
+      map_index_of[it->second] = i;
+    } else if (p.keyframe >= 0 && std::size_t(p.keyframe) < map_gt.positions.size()) {
+      others.push_back(map_gt.positions[std::size_t(p.keyframe)]);
+      others_index.push_back(i);
+    }
   }
-  const eval::GroundTruth earlier = eval::compute_ground_truth(mine, mine, {within_m, 100, true});
+  const eval::GroundTruth earlier =
+      eval::compute_ground_truth(mine, mine_in_map, {within_m, 100, true});
   const eval::GroundTruth elsewhere = eval::compute_ground_truth(mine, others, {within_m, 0});
   std::vector<Revisit> out;
   for (std::size_t i = 0; i < mine.size(); ++i) {
@@ -80,8 +97,8 @@ std::vector<Revisit> true_revisits(const ClosureRun& run, const GroundTruth& gt,
     const int o = elsewhere.is_loop[i] ? elsewhere.nearest[i] : -1;
     if (e < 0 && o < 0) continue;
     const bool cross = o >= 0 && (e < 0 || d2(others[std::size_t(o)]) < d2(mine[std::size_t(e)]));
-    out.push_back({run.map.place(mine_index[i]).keyframe,
-                   cross ? others_index[std::size_t(o)] : mine_index[std::size_t(e)]});
+    out.push_back(
+        {mine_ids[i], cross ? others_index[std::size_t(o)] : map_index_of[std::size_t(e)]});
   }
   return out;
 }
@@ -159,11 +176,14 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
   int accepted = 0;
   std::size_t done = 0;
   std::vector<double> add_keyframe_ms;
+  std::vector<int> described_ids;
   StepProgress bar("close loops", "keyframes", !progress);
   for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* first, std::size_t n) {
     const bool reset = std::binary_search(resets.begin(), resets.end(), k.id);
     const auto start = std::chrono::steady_clock::now();
-    accepted += int(closer.add_keyframe(k, first, n, reset).accepted.size());
+    const closure::KeyframeClosure result = closer.add_keyframe(k, first, n, reset);
+    accepted += int(result.accepted.size());
+    if (result.described) described_ids.push_back(k.id);
     add_keyframe_ms.push_back(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
             .count());
@@ -178,6 +198,7 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
   run.loops = closer.loops();
   run.times = closer.times();
   run.add_keyframe_ms = std::move(add_keyframe_ms);
+  run.described_ids = std::move(described_ids);
   run.described = closer.times().described;
   run.session = config.recognition.session;
   run.anchored = closer.anchored();
@@ -303,6 +324,7 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
                        {{"p50", latency.p50_ms}, {"p99", latency.p99_ms}, {"max", latency.max_ms}}},
                       {"peak_memory_mb", peak_resident_mb()},
                       {"map_places", run.map.size()},
+                      {"linked_keyframes", tm.linked},
                       {"map_bytes_per_place",
                        run.map.size() > 0 && !ec ? map_bytes / double(run.map.size()) : 0.0}};
   if (gt) {

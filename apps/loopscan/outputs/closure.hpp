@@ -21,6 +21,7 @@ struct ClosureRun {
   closure::StageTimes times;
   double total_ms = 0;
   std::vector<double> add_keyframe_ms;  // each LoopCloser::add_keyframe call, in input order
+  std::vector<int> described_ids;       // keyframes that were described, in input order
   int described = 0;
   int session = 0;
   bool anchored = true;  // in the saved map's frame (always true without one)

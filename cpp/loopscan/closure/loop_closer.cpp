@@ -345,12 +345,40 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
       loops_.push_back(v);
     }
   }
-  // 6. Join the map.
+  // 6. Loop edges, and a solve when the revisit is new (or enough keyframes passed).
+  {
+    const ScopedTimer timer(times_.graph);
+    join_graph(out);
+  }
+  // 7. Join the map, unless the place is held already.
+  out.linked_place = held_place(keyframe.id, out);
+  if (out.linked_place >= 0) {
+    ++times_.linked;
+    return;
+  }
   db_.add({config_.recognition.session, keyframe.id}, place,
           input_poses_[pose_index_.at(keyframe.id)].T_cam_world);  // orthonormalised
   clouds_.push_back(std::move(place_cloud));
-  // 7. Loop edges, and a solve when the revisit is new (or enough keyframes passed).
-  const ScopedTimer timer(times_.graph);
+}
+
+long LoopCloser::held_place(int keyframe_id, const KeyframeClosure& out) const {
+  const LifelongConfig& l = config_.lifelong;
+  if (!l.enabled) return -1;
+  // Its own loops that verification passed: joined the graph, or waiting for confirmation (a
+  // wrong one costs a place of the map, never a wrong edge).
+  for (const Loop& loop : out.verified) {
+    if (loop.query != keyframe_id ||
+        (loop.verdict != Verdict::Accepted && loop.verdict != Verdict::Pending) ||
+        loop.match.session != config_.recognition.session)
+      continue;
+    if (loop.T_query_match.translation().norm() <= l.max_distance_m &&
+        rotation_angle(loop.T_query_match.rotation()) <= l.max_rotation_deg * M_PI / 180.0)
+      return static_cast<long>(loop.place_index);
+  }
+  return -1;
+}
+
+void LoopCloser::join_graph(KeyframeClosure& out) {
   for (Loop& loop : out.accepted) {
     loop.verdict = Verdict::Accepted;
     const int a = graph_node_[pose_index_.at(loop.query)];

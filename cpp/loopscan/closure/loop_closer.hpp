@@ -42,6 +42,17 @@ struct ProximityConfig {
   double min_overlap = 0.25;
 };
 
+// A described keyframe whose place the map already holds links to it instead of adding a copy,
+// so the map grows with the area driven, not with time: held = a loop of this keyframe that
+// verification passed (and the graph did not refuse) to a place of its own session within these
+// bounds. Places of other
+// sessions (another date or season) never absorb it: each session keeps its own appearance.
+struct LifelongConfig {
+  bool enabled = true;
+  double max_distance_m = 3.0;
+  double max_rotation_deg = 15.0;
+};
+
 struct LoopCloserConfig {
   RecognizerConfig recognition = RecognizerConfig::make(Method::ScanContext);
   int candidates = 3;  // best places verified per keyframe (first that passes wins)
@@ -55,6 +66,7 @@ struct LoopCloserConfig {
   ConsistencyConfig consistency;
   ProximityConfig proximity;
   LoopUncertaintyConfig loop_uncertainty;  // what each loop edge's alignment measured
+  LifelongConfig lifelong;
   PoseGraphConfig graph;
   // Solve the graph at most every this many keyframes while loops keep coming: loops the
   // current estimate already agrees with wait; any other (a new revisit) is solved at once,
@@ -68,6 +80,7 @@ void validate(const LoopCloserConfig& config);
 struct StageTimes {  // milliseconds, summed over keyframes
   double scan = 0, describe = 0, cloud = 0, query = 0, verify = 0, graph = 0;
   int keyframes = 0, described = 0, verifications = 0, solves = 0;
+  int linked = 0;  // described keyframes linked to a place the map held (not added)
 };
 
 struct KeyframeClosure {
@@ -77,6 +90,9 @@ struct KeyframeClosure {
   std::vector<Loop> verified;  // every verification of this keyframe, verdicts included
   std::vector<Loop> accepted;  // loops that joined the graph now (may include earlier pending)
   GraphSolve solve;
+  // Database index of the place this described keyframe linked to instead of joining the map
+  // (LifelongConfig); -1: it joined.
+  long linked_place = -1;
 };
 
 class LoopCloser {
@@ -139,6 +155,8 @@ class LoopCloser {
   bool consistent(const Verified& earlier, const Loop& loop, std::size_t place_index) const;
   Eigen::Isometry3d vo_T_world_cam(int keyframe_id) const;
   void update_verdicts(KeyframeClosure& out);
+  void join_graph(KeyframeClosure& out);  // the accepted loops' edges, and a solve if due
+  long held_place(int keyframe_id, const KeyframeClosure& out) const;
   int match_node(const Loop& loop);
   void anchor(const Loop& loop, int query_node);
 

@@ -257,6 +257,12 @@ void visit_closure(V& v, Configuration& c) {
     v.key("max_radius_m", p.max_radius_m, closed(0, 1e4), "");
     v.key("min_overlap", p.min_overlap, closed(0, 1), "verification.min_overlap for these places");
   });
+  v.section("lifelong", "a keyframe whose place the map holds links to it, not a copy", [&] {
+    closure::LifelongConfig& f = l.lifelong;
+    v.key("enabled", f.enabled, "held: an accepted loop to a place of its own session within");
+    v.key("max_distance_m", f.max_distance_m, closed(0, 1e3), "... this distance (m)");
+    v.key("max_rotation_deg", f.max_rotation_deg, closed(0, 180), "... and rotation (degrees)");
+  });
   v.section("loop_uncertainty", "each loop edge's covariance, from its alignment", [&] {
     closure::LoopUncertaintyConfig& u = l.loop_uncertainty;
     v.key("measured", u.measured, "false: every loop gets pose_graph.loop_translation_m / _deg");
