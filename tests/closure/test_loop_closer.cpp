@@ -348,6 +348,12 @@ TEST(LoopCloser, BadKeyframesAreRefused) {
   bad = closure::LoopCloserConfig::make(Method::ScanContext);
   bad.proximity.base_radius_m = -1;
   EXPECT_THROW(closure::LoopCloser{bad}, std::invalid_argument);
+  bad = closure::LoopCloserConfig::make(Method::ScanContext);
+  bad.lifelong.max_distance_m = std::nan("");
+  EXPECT_THROW(closure::LoopCloser{bad}, std::invalid_argument);
+  bad = closure::LoopCloserConfig::make(Method::ScanContext);
+  bad.lifelong.max_rotation_deg = 200;
+  EXPECT_THROW(closure::LoopCloser{bad}, std::invalid_argument);
 }
 
 }  // namespace

@@ -75,6 +75,12 @@ void validate(const LoopCloserConfig& c) {
         "loop closer config: proximity candidates in [0, 100], radii in [0, 10000] m, "
         "radius_per_m in [0, 10], min_overlap in [0, 1]");
   }
+  const LifelongConfig& l = c.lifelong;
+  if (!(l.max_distance_m >= 0 && l.max_distance_m <= 1e3) ||
+      !(l.max_rotation_deg >= 0 && l.max_rotation_deg <= 180)) {
+    throw std::invalid_argument(
+        "loop closer config: lifelong max_distance_m in [0, 1000], max_rotation_deg in [0, 180]");
+  }
 }
 
 LoopCloser::LoopCloser(const LoopCloserConfig& config)

@@ -1,7 +1,8 @@
 #pragma once
 // Online loop closing on top of place recognition: per keyframe, imitate the scan, describe it,
 // query the map, verify the candidates geometrically, accept the loops that neighbouring
-// keyframes confirm, add the place to the map, and optimise the pose graph when a loop joins.
+// keyframes confirm, optimise the pose graph when a loop joins, and add the place to the map
+// unless the map holds it already.
 #include <deque>
 #include <limits>
 #include <map>
@@ -45,8 +46,8 @@ struct ProximityConfig {
 // A described keyframe whose place the map already holds links to it instead of adding a copy,
 // so the map grows with the area driven, not with time: held = a loop of this keyframe that
 // verification passed (and the graph did not refuse) to a place of its own session within these
-// bounds. Places of other
-// sessions (another date or season) never absorb it: each session keeps its own appearance.
+// bounds. Places of other sessions (another date or season) never absorb it: each session keeps
+// its own appearance.
 struct LifelongConfig {
   bool enabled = true;
   double max_distance_m = 3.0;
