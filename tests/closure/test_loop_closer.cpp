@@ -29,13 +29,9 @@ Drive drive(sim::Season season, unsigned session, const std::string& route = "sh
             double drift_per_m = 0.02, int laps = 1) {
   const sim::Trajectory one_lap = sim::make_builtin_trajectory(route);
   Drive d{sim::drive_laps(one_lap, laps), {}};
-  std::vector<Eigen::Vector3d> streets = one_lap.centres();
-  if (laps > 1)
-    for (const Eigen::Isometry3d& T : sim::connector_back_to_start(one_lap))
-      streets.push_back(T.translation());
   sim::WorldConfig wc;
   wc.seed = 1;
-  const sim::World world = sim::World::build(streets, wc);
+  const sim::World world = sim::World::build(sim::lap_streets(one_lap, laps), wc);
   sim::Conditions conditions = sim::Conditions::for_season(season);
   conditions.session_seed = session;
   sim::VoSimConfig vo;

@@ -80,13 +80,10 @@ void run_simulate(const SimulateArgs& a) {
   const std::vector<KeyframePose> vo_poses =
       a.vo_poses.empty() ? std::vector<KeyframePose>{} : io::read_sodso_poses(a.vo_poses);
   // The world is built along one lap and the way back to its start; every lap drives it.
-  std::vector<Eigen::Vector3d> streets = t.trajectory.centres();
-  const std::size_t route_frames = streets.size();
-  std::size_t connector_frames = 0;
+  const std::vector<Eigen::Vector3d> streets = sim::lap_streets(t.trajectory, a.laps);
+  const std::size_t route_frames = t.trajectory.T_world_cam.size();
+  const std::size_t connector_frames = streets.size() - route_frames;
   if (a.laps > 1) {
-    for (const Eigen::Isometry3d& T : sim::connector_back_to_start(t.trajectory))
-      streets.push_back(T.translation());
-    connector_frames = streets.size() - route_frames;
     t.trajectory = sim::drive_laps(t.trajectory, a.laps);
     t.gps = false;  // the connector has no GPS rows: ground truth is written as poses
   }

@@ -254,6 +254,14 @@ std::vector<Eigen::Isometry3d> connector_back_to_start(const Trajectory& route) 
   return out;
 }
 
+std::vector<Eigen::Vector3d> lap_streets(const Trajectory& route, int laps) {
+  std::vector<Eigen::Vector3d> streets = route.centres();
+  if (laps > 1)
+    for (const Eigen::Isometry3d& T : connector_back_to_start(route))
+      streets.push_back(T.translation());
+  return streets;
+}
+
 Trajectory drive_laps(const Trajectory& route, int laps) {
   if (laps < 1) throw std::invalid_argument("laps: at least 1");
   if (laps == 1) return route;

@@ -51,6 +51,9 @@ inline constexpr double lap_connector_turn_radius_m = 10.0;  // the built-in rou
 Trajectory drive_laps(const Trajectory& route, int laps);
 // drive_laps's connector alone (empty for a route that is a loop already).
 std::vector<Eigen::Isometry3d> connector_back_to_start(const Trajectory& route);
+// Where a world for drive_laps(route, laps) is built: the route's centres, and the connector's
+// when laps > 1 (every lap drives the same streets).
+std::vector<Eigen::Vector3d> lap_streets(const Trajectory& route, int laps);
 
 struct KeyframeSelection {
   double min_distance_m = 1.2;
