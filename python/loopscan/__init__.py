@@ -6,6 +6,7 @@ Errors come back as ValueError (bad arguments, with what was expected) or Runtim
 files: file, line and what was expected).
 """
 from ._loopscan import (  # noqa: F401
+    BackgroundLoopCloser,
     Candidate,
     Database,
     FrameResult,

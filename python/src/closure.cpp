@@ -3,9 +3,34 @@
 
 #include "arrays.hpp"
 #include "configuration.hpp"
+#include "loopscan/closure/background_closer.hpp"
 #include "loopscan/closure/loop_closer.hpp"
 
 namespace loopscan::python {
+
+namespace {
+
+closure::LoopCloserConfig closer_config(const std::optional<std::string>& method,
+                                        const std::optional<std::string>& mode,
+                                        const std::optional<double>& range_m,
+                                        const std::optional<std::string>& config) {
+  if (!config) {
+    return closure::LoopCloserConfig::make(parse_method(method.value_or("sc")),
+                                           parse_mode(mode.value_or("default")),
+                                           range_m.value_or(45.0));
+  }
+  const Configuration c = load_python_configuration(*config, method, mode, range_m);
+  validate_loop_closing(c);
+  return loop_closer_config(c);
+}
+
+closure::BackgroundConfig::WhenFull parse_when_full(const std::string& name) {
+  if (name == "skip") return closure::BackgroundConfig::WhenFull::SkipVerification;
+  if (name == "wait") return closure::BackgroundConfig::WhenFull::Wait;
+  throw py::value_error("when_full: expected 'skip' or 'wait', got '" + name + "'");
+}
+
+}  // namespace
 
 void bind_closure(py::module_& m) {
   using closure::KeyframeClosure;
@@ -36,20 +61,15 @@ void bind_closure(py::module_& m) {
       .def_readonly("verified", &KeyframeClosure::verified)
       .def_readonly("accepted", &KeyframeClosure::accepted)
       .def_readonly("linked_place", &KeyframeClosure::linked_place,
-                    "database index of the held place this keyframe linked to (-1: it joined)");
+                    "database index of the held place this keyframe linked to (-1: it joined)")
+      .def_readonly("skipped", &KeyframeClosure::skipped,
+                    "described but left unverified: a background worker was too far behind");
   py::class_<LoopCloser>(m, "LoopCloser",
                          "Online loop closing: recognition, ICP verification, pose graph.")
       .def(py::init([](const std::optional<std::string>& method,
                        const std::optional<std::string>& mode, const std::optional<double>& range_m,
                        const std::optional<std::string>& config) {
-             if (!config) {
-               return LoopCloser(closure::LoopCloserConfig::make(
-                   parse_method(method.value_or("sc")), parse_mode(mode.value_or("default")),
-                   range_m.value_or(45.0)));
-             }
-             const Configuration c = load_python_configuration(*config, method, mode, range_m);
-             validate_loop_closing(c);
-             return LoopCloser(loop_closer_config(c));
+             return LoopCloser(closer_config(method, mode, range_m, config));
            }),
            py::arg("method") = py::none(), py::arg("mode") = py::none(),
            py::arg("range_m") = py::none(), py::arg("config") = py::none(),
@@ -66,6 +86,67 @@ void bind_closure(py::module_& m) {
           "corrected_poses", [](const LoopCloser& c) { return from_poses(c.corrected_poses()); },
           "(ids (K,), T_cam_world (K, 3, 4)) of every keyframe so far, after the pose graph")
       .def_property_readonly("loops", &LoopCloser::loops, "every verification, in order");
+  using closure::BackgroundLoopCloser;
+  py::class_<BackgroundLoopCloser>(
+      m, "BackgroundLoopCloser",
+      "LoopCloser with verification and graph solves on a worker thread: add_keyframe returns "
+      "after the description and the query; poll() hands over what the worker completed.")
+      .def(py::init([](const std::optional<std::string>& method,
+                       const std::optional<std::string>& mode, const std::optional<double>& range_m,
+                       const std::optional<std::string>& config, int queue_capacity,
+                       const std::string& when_full) {
+             closure::BackgroundConfig background;
+             background.queue_capacity = queue_capacity;
+             background.when_full = parse_when_full(when_full);
+             return std::make_unique<BackgroundLoopCloser>(
+                 closer_config(method, mode, range_m, config), background);
+           }),
+           py::arg("method") = py::none(), py::arg("mode") = py::none(),
+           py::arg("range_m") = py::none(), py::arg("config") = py::none(),
+           py::arg("queue_capacity") = 32, py::arg("when_full") = "skip",
+           "As LoopCloser, plus the queue: when it is full, 'skip' leaves the oldest waiting "
+           "keyframe unverified (it still joins the graph), 'wait' blocks add_keyframe.")
+      .def("add_keyframe", &add_keyframe_arrays<BackgroundLoopCloser>, py::arg("keyframe"),
+           py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false,
+           "the description and query; verification follows on the worker (poll)")
+      .def("poll", &BackgroundLoopCloser::poll, py::call_guard<py::gil_scoped_release>(),
+           "closures completed since the last poll, in input order")
+      .def("wait", &BackgroundLoopCloser::wait, py::call_guard<py::gil_scoped_release>(),
+           "until the worker has integrated every queued keyframe")
+      .def("finish",
+           [](BackgroundLoopCloser& c) {
+             py::gil_scoped_release release;
+             c.finish();
+           })
+      .def(
+          "corrected_poses",
+          [](const BackgroundLoopCloser& c) {
+            std::vector<KeyframePose> poses;
+            {
+              py::gil_scoped_release release;
+              poses = c.corrected_poses();
+            }
+            return from_poses(poses);
+          },
+          "(ids, T_cam_world) of every keyframe given so far: the waiting ones continued by their "
+          "odometry from the latest estimate")
+      .def_property_readonly(
+          "queue",
+          [](const BackgroundLoopCloser& c) {
+            const closure::QueueStats q = c.queue();
+            py::dict d;
+            d["waiting"] = q.waiting;
+            d["holding_places"] = q.holding_places;
+            d["waits"] = q.waits;
+            d["waited_ms"] = q.waited_ms;
+            d["skipped"] = q.skipped;
+            d["dropped_closures"] = q.dropped_closures;
+            return d;
+          },
+          "the worker's queue: waiting, holding_places, waits, waited_ms, skipped, "
+          "dropped_closures")
+      .def_property_readonly("loops", &BackgroundLoopCloser::loops,
+                             "every verification so far, in order");
 }
 
 }  // namespace loopscan::python

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <zlib.h>
+#include <limits>
 
 #include <cmath>
 #include <cstdlib>
@@ -163,6 +164,45 @@ TEST_F(IoTest, SodsoPointsSkipClampAndCount) {
   expect_bad(read, "1 0 0 0 1\n2 0 0 0 1\n1 0 0 0 1\n", 3, "non-decreasing");
   expect_bad(read, "1 0 0 0 1\n2 0 0 0\n", 2, "5 numbers: id x y z intensity");
   expect_bad(read, "1 0 0 0 1 9\n", 1, "5 numbers");
+}
+
+// Streamed keyframe by keyframe, a file gives exactly what reading it whole gives (keyframes
+// without points, skipped keyframe ids and points after the last asked keyframe included),
+// with the same errors at the same lines.
+TEST_F(IoTest, SodsoPointsStreamedByKeyframeAreTheWholeFile) {
+  const std::string p = file("pts.txt",
+                             "0 1 2 3 68.2\n0 nan 2 3 10\n2 1 2 3 300\n2 4 5 6 7\n5 1 2 3 -4\n"
+                             "5 7 8 9 1\n9 0 0 1 2\n");
+  const std::vector<loopscan::IdPoint> whole = read_sodso_points(p);
+  SodsoPointReader reader(p);
+  std::vector<loopscan::IdPoint> streamed, part;
+  std::vector<std::size_t> sizes;
+  for (const int keyframe : {0, 1, 2, 4, 5, 7}) {
+    reader.read_until(keyframe, part);
+    for (const loopscan::IdPoint& q : part) EXPECT_LE(q.id, keyframe);
+    sizes.push_back(part.size());
+    streamed.insert(streamed.end(), part.begin(), part.end());
+  }
+  EXPECT_EQ(sizes, (std::vector<std::size_t>{1, 0, 2, 0, 2, 0}));
+  reader.read_until(std::numeric_limits<int>::max(), part);  // the rest
+  ASSERT_EQ(part.size(), 1u);
+  EXPECT_EQ(part[0].id, 9);
+  streamed.insert(streamed.end(), part.begin(), part.end());
+  ASSERT_EQ(streamed.size(), whole.size());
+  for (std::size_t i = 0; i < whole.size(); ++i) {
+    EXPECT_EQ(streamed[i].id, whole[i].id);
+    EXPECT_EQ(streamed[i].p_world, whole[i].p_world);
+    EXPECT_EQ(streamed[i].intensity, whole[i].intensity);
+  }
+  EXPECT_EQ(reader.stats().non_finite_skipped, 1u);
+  EXPECT_EQ(reader.stats().intensity_clamped, 2u);
+  const auto stream = [](auto path) {
+    SodsoPointReader r(path);
+    std::vector<loopscan::IdPoint> out;
+    for (int k = 0; k < 4; ++k) r.read_until(k, out);
+  };
+  expect_bad(stream, "1 0 0 0 1\n2 0 0 0 1\n1 0 0 0 1\n", 3, "non-decreasing");
+  expect_bad(stream, "1 0 0 0 1\n2 0 0 0\n", 2, "5 numbers: id x y z intensity");
 }
 
 TEST_F(IoTest, GroundTruth) {

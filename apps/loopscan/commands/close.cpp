@@ -2,6 +2,7 @@
 // trajectory (poses_closed.txt, trajectory_closed.txt), loops.csv, metrics.json, trajectory.svg.
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 
 #include "cli/commands.hpp"
 #include "cli/configuration.hpp"
@@ -58,7 +59,9 @@ void run_close(const CloseArgs& a) {
     }
   }
   const std::vector<KeyframePose> poses = io::read_sodso_poses(a.poses);
-  const std::vector<IdPoint> points = io::read_sodso_points(a.points);
+  // Streamed keyframe by keyframe, as a VO hands them over: memory follows the closer, not
+  // the length of the recording.
+  io::SodsoPointReader point_reader(a.points);
   std::optional<GroundTruth> gt;
   if (!a.gt.empty()) gt = read_ground_truth(a.gt, poses);
   const std::vector<int> resets = !a.reset_ids.empty()      ? io::read_incoming_ids(a.reset_ids)
@@ -66,11 +69,19 @@ void run_close(const CloseArgs& a) {
                                                             : std::vector<int>{};
   std::optional<GroundTruth> map_gt;
   if (!a.map_gt.empty()) map_gt = read_ground_truth(a.map_gt, {});
-  const ClosureRun run = run_closer(config, poses, points, resets, !a.quiet, map ? &*map : nullptr);
+  const ClosureRun run = run_closer(
+      config, poses,
+      [&](int keyframe_id, std::vector<IdPoint>& out) {
+        point_reader.read_until(keyframe_id, out);
+      },
+      resets, !a.quiet, closure_queue(c), map ? &*map : nullptr);
+  std::vector<IdPoint> after_last_keyframe;  // read to the end, so that a bad line is reported
+  point_reader.read_until(std::numeric_limits<int>::max(), after_last_keyframe);
   const nlohmann::json m = write_closure_outputs(a.out, run, c, gt, map_gt).metrics;
   if (a.write_points) {
-    io::write_sodso_points(a.out + "/pts_closed.txt",
-                           closure::reexpress_points(points, run.input, run.closed));
+    io::write_sodso_points(
+        a.out + "/pts_closed.txt",
+        closure::reexpress_points(io::read_sodso_points(a.points), run.input, run.closed));
   }
   std::printf("%s: %zu keyframes, %d described; loops: %d proposed, %d accepted",
               method_name(c.method).c_str(), poses.size(), run.described,

@@ -24,8 +24,8 @@ void run_slam(const SlamArgs& a, const Configuration& c) {
   std::optional<GroundTruth> gt;
   if (!vo.gt_path.empty()) gt = read_ground_truth(vo.gt_path, vo.run.keyframe_poses);
   std::printf("[2/2] loop closing over %zu keyframes\n", vo.run.keyframe_poses.size());
-  const ClosureRun run =
-      run_closer(config, vo.run.keyframe_poses, vo.run.points, vo.run.reset_frames, !a.vo.quiet);
+  const ClosureRun run = run_closer(config, vo.run.keyframe_poses, points_in_memory(vo.run.points),
+                                    vo.run.reset_frames, !a.vo.quiet, closure_queue(c));
   const nlohmann::json m = write_closure_outputs(a.vo.out, run, c, gt, {}).metrics;
   std::printf("loops: %d accepted", m["loops"]["accepted"].get<int>());
   if (gt) {

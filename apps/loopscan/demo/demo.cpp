@@ -93,8 +93,9 @@ DemoClosing close_demo_sessions(const std::string& out, const LoadedTrajectory& 
     config.recognition.session = int(i);
     const std::string dir = out + (i == 0 ? "/closure-summer" : "/closure-winter");
     std::filesystem::create_directories(dir);
-    ClosureRun run = run_closer(config, sessions[i].vo.poses, sessions[i].vo.points, {}, true,
-                                i == 0 ? nullptr : &map);
+    ClosureRun run =
+        run_closer(config, sessions[i].vo.poses, points_in_memory(sessions[i].vo.points), {}, true,
+                   closure_queue(c), i == 0 ? nullptr : &map);
     const ClosureOutputs outputs = write_closure_outputs(dir, run, c, gt, {});
     const nlohmann::json& m = outputs.metrics;
     d.figures.push_back({std::string("Loop closing, ") + names[i], outputs.figures.map});

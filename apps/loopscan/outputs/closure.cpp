@@ -9,11 +9,13 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <type_traits>
 #include <unordered_map>
 
 #include <sys/resource.h>
 
 #include "cli/progress.hpp"
+#include "loopscan/closure/background_closer.hpp"
 #include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/eval/latency.hpp"
 #include "loopscan/eval/loop_metrics.hpp"
@@ -164,49 +166,94 @@ std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses) {
   return out;
 }
 
-ClosureRun run_closer(const closure::LoopCloserConfig& config,
-                      const std::vector<KeyframePose>& poses, const std::vector<IdPoint>& points,
-                      const std::vector<int>& reset_ids, bool progress, SavedMap* map) {
-  const auto t0 = std::chrono::steady_clock::now();
-  closure::LoopCloser closer =
-      map ? closure::LoopCloser(config, std::move(map->places), std::move(map->clouds))
-          : closure::LoopCloser(config);
-  std::vector<int> resets = reset_ids;
-  std::sort(resets.begin(), resets.end());
+int closure_queue(const Configuration& c) {
+  return c.closure.background ? c.closure.queue_capacity : 0;
+}
+
+namespace {
+
+template <typename Closer>
+void replay(Closer& closer, const std::vector<KeyframePose>& poses, const KeyframePoints& points,
+            const std::vector<int>& resets, bool progress, ClosureRun& run) {
   int accepted = 0;
   std::size_t done = 0;
-  std::vector<double> add_keyframe_ms;
-  std::vector<int> described_ids;
   StepProgress bar("close loops", "keyframes", !progress);
-  for_each_keyframe(poses, points, [&](const KeyframePose& k, const IdPoint* first, std::size_t n) {
+  const auto count = [&](const closure::KeyframeClosure& closed) {
+    accepted += int(closed.accepted.size());
+  };
+  std::vector<IdPoint> keyframe_points;
+  for (const KeyframePose& k : poses) {
+    points(k.id, keyframe_points);
     const bool reset = std::binary_search(resets.begin(), resets.end(), k.id);
     const auto start = std::chrono::steady_clock::now();
-    const closure::KeyframeClosure result = closer.add_keyframe(k, first, n, reset);
-    accepted += int(result.accepted.size());
-    if (result.described) described_ids.push_back(k.id);
-    add_keyframe_ms.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-            .count());
+    const closure::KeyframeClosure result =
+        closer.add_keyframe(k, keyframe_points.data(), keyframe_points.size(), reset);
+    double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if constexpr (std::is_same_v<Closer, closure::BackgroundLoopCloser>) {
+      ms -= closer.queue().last_wait_ms;
+      for (const closure::KeyframeClosure& closed : closer.poll()) count(closed);
+    } else {
+      count(result);
+    }
+    if (result.described) run.described_ids.push_back(k.id);
+    run.add_keyframe_ms.push_back(ms);
     bar.update(++done, poses.size());
-  });
-  bar.finish(", " + std::to_string(accepted) + " loops accepted");
+  }
   closer.finish();
-  ClosureRun run;
-  run.input = poses;
-  run.resets = resets;
+  if constexpr (std::is_same_v<Closer, closure::BackgroundLoopCloser>) {
+    for (const closure::KeyframeClosure& closed : closer.poll()) count(closed);
+    const closure::QueueStats q = closer.queue();
+    run.queue_waits = q.waits;
+    run.queue_wait_ms = q.waited_ms;
+    run.background = true;
+  }
+  bar.finish(", " + std::to_string(accepted) + " loops accepted");
   run.closed = closer.corrected_poses();
   run.loops = closer.loops();
   run.times = closer.times();
-  run.add_keyframe_ms = std::move(add_keyframe_ms);
-  run.described_ids = std::move(described_ids);
-  run.described = closer.times().described;
-  run.session = config.recognition.session;
+  run.described = run.times.described;
   run.anchored = closer.anchored();
   run.anchored_at = closer.anchored_at();
   run.map = closer.corrected_map();
   run.clouds = closer.place_clouds();
+}
+
+}  // namespace
+
+KeyframePoints points_in_memory(const std::vector<IdPoint>& points) {
+  return [&points, next = std::size_t(0)](int keyframe_id, std::vector<IdPoint>& out) mutable {
+    const std::size_t first = next;
+    while (next < points.size() && points[next].id <= keyframe_id) ++next;
+    out.assign(points.begin() + long(first), points.begin() + long(next));
+  };
+}
+
+ClosureRun run_closer(const closure::LoopCloserConfig& config,
+                      const std::vector<KeyframePose>& poses, const KeyframePoints& points,
+                      const std::vector<int>& reset_ids, bool progress, int background_queue,
+                      SavedMap* map) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ClosureRun run;
+  run.input = poses;
+  run.resets = reset_ids;
+  std::sort(run.resets.begin(), run.resets.end());
+  run.session = config.recognition.session;
+  Database places = map ? std::move(map->places) : Database(map_config(config.recognition));
+  std::vector<PlaceCloud> clouds = map ? std::move(map->clouds) : std::vector<PlaceCloud>{};
+  if (background_queue > 0) {
+    closure::BackgroundConfig background;
+    background.queue_capacity = background_queue;
+    background.when_full = closure::BackgroundConfig::WhenFull::Wait;
+    closure::BackgroundLoopCloser closer(config, std::move(places), std::move(clouds), background);
+    replay(closer, poses, points, run.resets, progress, run);
+  } else {
+    closure::LoopCloser closer(config, std::move(places), std::move(clouds));
+    replay(closer, poses, points, run.resets, progress, run);
+  }
   run.total_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  run.peak_memory_mb = peak_resident_mb();
   return run;
 }
 
@@ -322,7 +369,9 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
                       {"anchored_at_keyframe", run.anchored_at},
                       {"add_keyframe_latency_ms",
                        {{"p50", latency.p50_ms}, {"p99", latency.p99_ms}, {"max", latency.max_ms}}},
-                      {"peak_memory_mb", peak_resident_mb()},
+                      {"peak_memory_mb", run.peak_memory_mb},
+                      {"background", run.background},
+                      {"queue_waits", {{"count", run.queue_waits}, {"ms", run.queue_wait_ms}}},
                       {"map_places", run.map.size()},
                       {"linked_keyframes", tm.linked},
                       {"map_bytes_per_place",
@@ -388,8 +437,10 @@ ClosureOutputs close_vo_run(const std::string& dir, const std::vector<KeyframePo
                             const std::optional<GroundTruth>& gt, const Configuration& c,
                             bool progress) {
   std::filesystem::create_directories(dir);
-  return write_closure_outputs(
-      dir, run_closer(loop_closer_config(c), poses, points, resets, progress), c, gt, {});
+  return write_closure_outputs(dir,
+                               run_closer(loop_closer_config(c), poses, points_in_memory(points),
+                                          resets, progress, closure_queue(c)),
+                               c, gt, {});
 }
 
 }  // namespace loopscan::cli

@@ -2,6 +2,7 @@
 // Shared by `close` and `slam`: a LoopCloser run over a keyframe sequence, its files
 // (poses_closed.txt, trajectory_closed.txt, loops.csv, metrics.json, trajectory.svg) and the
 // evaluation against ground truth when there is one.
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,7 +21,15 @@ struct ClosureRun {
   std::vector<closure::Loop> loops;  // every verification
   closure::StageTimes times;
   double total_ms = 0;
-  std::vector<double> add_keyframe_ms;  // each LoopCloser::add_keyframe call, in input order
+  // Each add_keyframe call, in input order, without the time it waited for a queue slot (a
+  // replay outruns the worker; a robot at its keyframe rate does not).
+  std::vector<double> add_keyframe_ms;
+  // The process's peak resident memory when closing ended (its input included; the
+  // evaluation after it, with its own pose graph of every true revisit, not).
+  double peak_memory_mb = 0;
+  long queue_waits = 0;
+  double queue_wait_ms = 0;
+  bool background = false;
   std::vector<int> described_ids;       // keyframes that were described, in input order
   int described = 0;
   int session = 0;
@@ -39,12 +48,20 @@ struct SavedMap {
 std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses);
 
 // Streams the keyframes and their points (points sorted by keyframe id, as SO-DSO writes them)
-// through a LoopCloser; `reset_ids`: keyframes where the VO restarted.
+// through a loop closer; `reset_ids`: keyframes where the VO restarted. `background_queue`:
+// 0 runs a LoopCloser on this thread; N > 0 a BackgroundLoopCloser with a queue of N, fed as
+// fast as its worker takes the keyframes (closure_queue(c) gives the configured one).
 // `map` (optional): a saved map this session continues (config.recognition.session must be
 // new to it).
+// Each keyframe's points as the VO handed them over: fills `out` with the points of the
+// keyframe of this id (and of any earlier one not asked for); asked in keyframe order.
+using KeyframePoints = std::function<void(int keyframe_id, std::vector<IdPoint>& out)>;
+KeyframePoints points_in_memory(const std::vector<IdPoint>& points);  // sorted by id
 ClosureRun run_closer(const closure::LoopCloserConfig& config,
-                      const std::vector<KeyframePose>& poses, const std::vector<IdPoint>& points,
-                      const std::vector<int>& reset_ids, bool progress, SavedMap* map = nullptr);
+                      const std::vector<KeyframePose>& poses, const KeyframePoints& points,
+                      const std::vector<int>& reset_ids, bool progress, int background_queue,
+                      SavedMap* map = nullptr);
+int closure_queue(const Configuration& c);
 
 struct GroundTruth {
   std::string path;

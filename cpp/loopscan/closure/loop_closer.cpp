@@ -1,5 +1,6 @@
 #include "loopscan/closure/loop_closer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -14,16 +15,16 @@
 namespace loopscan::closure {
 namespace {
 
+double rotation_angle(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
+
+}  // namespace
+
 Eigen::Isometry3d isometry(const Pose3x4& T) {
   Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
   out.linear() = T.leftCols<3>();
   out.translation() = T.col(3);
   return out;
 }
-
-double rotation_angle(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
-
-}  // namespace
 
 KeyframePose orthonormalised(KeyframePose k) {
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(Eigen::Matrix3d(k.T_cam_world.leftCols<3>()),
@@ -107,6 +108,7 @@ LoopCloser::LoopCloser(const LoopCloserConfig& config, Database map,
     }
     if (!db_.pose(i)) throw std::invalid_argument("loop closer: a map place has no pose");
   }
+  place_ordinal_.assign(db_.size(), std::numeric_limits<long>::min());  // never recent
   anchored_ = db_.size() == 0;
   if (!anchored_) {
     map_run_ = 0;
@@ -130,12 +132,12 @@ void LoopCloser::anchor(const Loop& loop, int query_node) {
   const Eigen::Isometry3d T_map_match = isometry(*db_.pose(loop.place_index)).inverse();
   const Eigen::Isometry3d T_map_query = T_map_match * loop.T_query_match.inverse();
   graph_.transform(T_map_query * graph_.pose(query_node).inverse());
+  ++pose_revision_;
   anchored_ = true;
   anchored_at_ = loop.query;
 }
 
-int LoopCloser::add_graph_node(const KeyframePose& given, bool reset) {
-  const KeyframePose keyframe = orthonormalised(given);
+int LoopCloser::add_graph_node(const KeyframePose& keyframe, bool reset) {  // orthonormalised
   const Eigen::Isometry3d T_world_cam = isometry(keyframe.T_cam_world).inverse();
   int node;
   if (input_poses_.empty() || reset) {
@@ -168,7 +170,7 @@ int LoopCloser::root(int run) {
 
 // The places nearest to the query's estimated position, within a radius that grows with the
 // path travelled since the two could last be tied together (a loop, or the same VO run).
-std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id,
+std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id, long ordinal,
                                                             const std::vector<Candidate>& taken) {
   const ProximityConfig& p = config_.proximity;
   std::vector<Proposal> out;
@@ -178,7 +180,7 @@ std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id,
   const double since_loop = loop_paths_m_.empty() ? HUGE_VAL : path_m_[qi] - loop_paths_m_.back();
   const int query_run = run_of(qi);
   const bool map_tied = map_run_ >= 0 && root(map_run_) == query_run;
-  const long searchable = long(db_.size()) - long(config_.recognition.query.exclude_recent);
+  const long searchable = long(db_.size()) - recent_places(ordinal);
   // Positions first (every place, every keyframe); whole poses only for the places in range.
   std::vector<std::pair<double, std::size_t>> found;  // distance, place index
   for (long i = 0; i < searchable; ++i) {
@@ -256,77 +258,121 @@ std::vector<Loop> LoopCloser::verify(const TargetCloud& query, const BirdsEyeGri
   return out;
 }
 
-void LoopCloser::begin_keyframe(const KeyframePose& keyframe, KeyframeClosure& out) {
-  out.keyframe = keyframe.id;
-  ++times_.keyframes;
-  if (pose_index_.count(keyframe.id)) {
+void PreparedKeyframe::skip() {
+  if (!has_scan) return;
+  place = {};
+  raw = {};
+  out.skipped = true;
+}
+
+long LoopCloser::recent_places(long ordinal) const {
+  const long band = config_.recognition.query.exclude_recent;
+  const auto first = std::lower_bound(place_ordinal_.begin(), place_ordinal_.end(), ordinal - band);
+  return long(place_ordinal_.end() - first);
+}
+
+PreparedKeyframe LoopCloser::begin_keyframe(const KeyframePose& keyframe, bool reset) {
+  if (!keyframe.T_cam_world.allFinite()) {
+    throw std::invalid_argument("loop closer: keyframe " + std::to_string(keyframe.id) +
+                                " has a non-finite pose");
+  }
+  if (!prepared_ids_.insert(keyframe.id).second) {
     throw std::invalid_argument("loop closer: keyframe id " + std::to_string(keyframe.id) +
                                 " given twice");
   }
+  ++times_.keyframes;
+  PreparedKeyframe prepared;
+  prepared.keyframe = orthonormalised(keyframe);
+  prepared.reset = reset;
+  prepared.out.keyframe = keyframe.id;
+  return prepared;
 }
 
-KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
-                                         std::size_t n_points, bool reset) {
-  KeyframeClosure out;
-  begin_keyframe(keyframe, out);
-  // 1. Imitate the scan (the graph gets a node for every keyframe, scan or not).
+PreparedKeyframe LoopCloser::prepare(const KeyframePose& keyframe, const IdPoint* points,
+                                     std::size_t n_points, bool reset) {
+  PreparedKeyframe prepared = begin_keyframe(keyframe, reset);
   Cloud scan;
-  bool has_scan = false;
   {
     const ScopedTimer timer(times_.scan);
-    has_scan = imitator_.next_scan(keyframe, points, n_points, reset,
-                                   filter_for(config_.recognition.method), scan);
-    add_graph_node(keyframe, reset);
-    if (has_scan) imitator_.last_in_range(raw_);
+    prepared.has_scan = imitator_.next_scan(keyframe, points, n_points, reset,
+                                            filter_for(config_.recognition.method), scan);
+    if (prepared.has_scan) imitator_.last_in_range(prepared.raw);
   }
-  if (has_scan) close_place(keyframe, scan, out);
-  return out;
+  if (prepared.has_scan) describe_and_query(scan, prepared);
+  return prepared;
 }
 
-KeyframeClosure LoopCloser::add_scan(const KeyframePose& keyframe, const Cloud& in_range,
-                                     bool reset) {
-  KeyframeClosure out;
-  begin_keyframe(keyframe, out);
+PreparedKeyframe LoopCloser::prepare_scan(const KeyframePose& keyframe, const Cloud& in_range,
+                                          bool reset) {
+  PreparedKeyframe prepared = begin_keyframe(keyframe, reset);
   Cloud scan;
   {
     const ScopedTimer timer(times_.scan);
     scan = filter_scan(in_range, filter_for(config_.recognition.method),
                        config_.recognition.imitation);
-    add_graph_node(keyframe, reset);
-    raw_.clear();
-    for (const PointI& p : in_range) raw_.push_back(p.p.cast<float>());
+    for (const PointI& p : in_range) prepared.raw.push_back(p.p.cast<float>());
   }
-  close_place(keyframe, scan, out);
+  prepared.has_scan = true;
+  describe_and_query(scan, prepared);
+  return prepared;
+}
+
+KeyframeClosure LoopCloser::add_keyframe(const KeyframePose& keyframe, const IdPoint* points,
+                                         std::size_t n_points, bool reset) {
+  return integrate(prepare(keyframe, points, n_points, reset));
+}
+
+KeyframeClosure LoopCloser::add_scan(const KeyframePose& keyframe, const Cloud& in_range,
+                                     bool reset) {
+  return integrate(prepare_scan(keyframe, in_range, reset));
+}
+
+void LoopCloser::describe_and_query(const Cloud& scan, PreparedKeyframe& prepared) {
+  {
+    const ScopedTimer timer(times_.describe);
+    prepared.place.signature = describe(config_.recognition.method, scan,
+                                        config_.recognition.descriptors, &prepared.place.frame);
+  }
+  prepared.out.described = true;
+  prepared.ordinal = prepared_described_++;
+  const ScopedTimer timer(times_.query);
+  const std::shared_lock lock(*db_mutex_);
+  // Keyframes prepared but not integrated yet have no place: the band counts keyframes, so a
+  // query sees the same places whenever integrate() runs (up to exclude_recent behind).
+  QueryOptions options = config_.recognition.query;
+  options.exclude_recent = int(recent_places(prepared.ordinal));
+  prepared.out.candidates = db_.query(prepared.place, config_.candidates, options);
+}
+
+KeyframeClosure LoopCloser::integrate(PreparedKeyframe prepared) {
+  KeyframeClosure out = std::move(prepared.out);
+  {
+    const ScopedTimer timer(times_.graph);
+    add_graph_node(prepared.keyframe, prepared.reset);
+  }
+  if (!prepared.has_scan) return out;
+  if (out.skipped) {
+    ++times_.skipped;
+    return out;
+  }
+  close_place(prepared, out);
   return out;
 }
 
-void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
-                             KeyframeClosure& out) {
-  // 2. Describe it: signature and the cloud verification aligns.
-  PlaceDescriptor place;
-  {
-    const ScopedTimer timer(times_.describe);
-    place.signature =
-        describe(config_.recognition.method, scan, config_.recognition.descriptors, &place.frame);
-  }
+void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
+  const KeyframePose& keyframe = prepared.keyframe;
   std::optional<TargetCloud> target;
   PlaceCloud place_cloud;
   std::optional<BirdsEyeGrid> birds_eye;
   {
     const ScopedTimer timer(times_.cloud);
-    target.emplace(voxel_cloud(raw_, config_.cloud), config_.normals);
+    target.emplace(voxel_cloud(prepared.raw, config_.cloud), config_.normals);
     place_cloud = to_place_cloud(*target);
     if (config_.verify.birds_eye.enabled) birds_eye.emplace(place_cloud, config_.verify.birds_eye);
   }
-  out.described = true;
   ++described_;
   ++times_.described;
-  // 3. Query the map.
-  {
-    const ScopedTimer timer(times_.query);
-    out.candidates = db_.query(place, config_.candidates, config_.recognition.query);
-  }
-  // 4. Verify the candidates, 5. confirm by consistency.
+  // Verify the candidates, confirm by consistency.
   {
     const ScopedTimer timer(times_.verify);
     std::size_t index = 0;  // database place of the last verification
@@ -336,7 +382,8 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
     out.verified = verify(*target, grid, keyframe.id, proposals, index);
     if (out.verified.empty() || out.verified.back().verdict != Verdict::Accepted) {
       const std::vector<Loop> nearby =
-          verify(*target, grid, keyframe.id, nearby_places(keyframe.id, out.candidates), index);
+          verify(*target, grid, keyframe.id,
+                 nearby_places(keyframe.id, prepared.ordinal, out.candidates), index);
       out.verified.insert(out.verified.end(), nearby.begin(), nearby.end());
     }
     if (!out.verified.empty()) {
@@ -351,19 +398,20 @@ void LoopCloser::close_place(const KeyframePose& keyframe, const Cloud& scan,
       loops_.push_back(v);
     }
   }
-  // 6. Loop edges, and a solve when the revisit is new (or enough keyframes passed).
+  // Loop edges, and a solve when the revisit is new (or enough keyframes passed).
   {
     const ScopedTimer timer(times_.graph);
     join_graph(out);
   }
-  // 7. Join the map, unless the place is held already.
+  // Join the map, unless the place is held already.
   out.linked_place = held_place(keyframe.id, out);
   if (out.linked_place >= 0) {
     ++times_.linked;
     return;
   }
-  db_.add({config_.recognition.session, keyframe.id}, place,
-          input_poses_[pose_index_.at(keyframe.id)].T_cam_world);  // orthonormalised
+  const std::unique_lock lock(*db_mutex_);
+  db_.add({config_.recognition.session, keyframe.id}, prepared.place, keyframe.T_cam_world);
+  place_ordinal_.push_back(prepared.ordinal);
   clouds_.push_back(std::move(place_cloud));
 }
 
@@ -413,6 +461,7 @@ void LoopCloser::join_graph(KeyframeClosure& out) {
                         config_.graph.max_loop_residual;
     if (!agrees || described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
       graph_.add_loop(a, b, loop.T_query_match, &out.solve, &id, covariance);
+      ++pose_revision_;
       last_solve_at_ = described_;
       ++times_.solves;
     } else {
@@ -423,6 +472,7 @@ void LoopCloser::join_graph(KeyframeClosure& out) {
   }
   if (unsolved_loops_ && described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
     out.solve = graph_.optimise();
+    ++pose_revision_;
     last_solve_at_ = described_;
     unsolved_loops_ = false;
     ++times_.solves;
@@ -448,6 +498,7 @@ GraphSolve LoopCloser::finish() {
   if (unsolved_loops_) {
     const ScopedTimer timer(times_.graph);
     s = graph_.optimise();
+    ++pose_revision_;
     unsolved_loops_ = false;
     ++times_.solves;
     KeyframeClosure none;
@@ -497,10 +548,10 @@ std::vector<Loop> LoopCloser::confirm(const Loop& loop, std::size_t place_index)
 }
 
 // What the closer hands back: corrected poses, the corrected map, re-expressed points.
-std::vector<KeyframePose> LoopCloser::corrected_poses() const {
+std::vector<KeyframePose> LoopCloser::corrected_poses(std::size_t first) const {
   std::vector<KeyframePose> out;
-  out.reserve(input_poses_.size());
-  for (std::size_t i = 0; i < input_poses_.size(); ++i) {
+  out.reserve(input_poses_.size() - std::min(first, input_poses_.size()));
+  for (std::size_t i = first; i < input_poses_.size(); ++i) {
     KeyframePose k;
     k.id = input_poses_[i].id;
     k.T_cam_world = graph_.pose(graph_node_[i]).inverse().matrix().topRows<3>();

@@ -6,8 +6,12 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
+#include <shared_mutex>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "loopscan/closure/pose_graph.hpp"
@@ -21,6 +25,7 @@ namespace loopscan::closure {
 // misplaces points far from the origin (1e-4 of non-orthonormality at 1 km: 0.1 m a pose,
 // compounding along the odometry). The closer takes every input pose through it.
 KeyframePose orthonormalised(KeyframePose keyframe);
+Eigen::Isometry3d isometry(const Pose3x4& T);  // a 3x4 [R | t] as a rigid transform
 
 struct ConsistencyConfig {
   int required = 2;  // verified loops that agree, this one included
@@ -78,10 +83,13 @@ struct LoopCloserConfig {
 
 void validate(const LoopCloserConfig& config);
 
-struct StageTimes {  // milliseconds, summed over keyframes
+// Milliseconds, summed over keyframes. scan, describe and query are the caller's half
+// (LoopCloser::prepare), the rest the integrating half.
+struct StageTimes {
   double scan = 0, describe = 0, cloud = 0, query = 0, verify = 0, graph = 0;
   int keyframes = 0, described = 0, verifications = 0, solves = 0;
-  int linked = 0;  // described keyframes linked to a place the map held (not added)
+  int linked = 0;   // described keyframes linked to a place the map held (not added)
+  int skipped = 0;  // described keyframes left unverified (BackgroundConfig::WhenFull)
 };
 
 struct KeyframeClosure {
@@ -94,6 +102,23 @@ struct KeyframeClosure {
   // Database index of the place this described keyframe linked to instead of joining the map
   // (LifelongConfig); -1: it joined.
   long linked_place = -1;
+  // Described, but neither verified nor added to the map: a background closer's worker was
+  // too far behind (BackgroundConfig::WhenFull::SkipVerification). Its graph node is there.
+  bool skipped = false;
+};
+
+// A keyframe after the caller's half of the work (LoopCloser::prepare): its scan described and
+// the map queried; what integrate() needs to verify it and add it to the graph and the map.
+struct PreparedKeyframe {
+  KeyframePose keyframe;  // orthonormalised
+  bool reset = false;
+  bool has_scan = false;
+  long ordinal = -1;  // among described keyframes (has_scan), from 0
+  PlaceDescriptor place;
+  Points3f raw;  // the scan's points in range, unfiltered: the cloud verification aligns
+  KeyframeClosure out;
+  // Drops the place: integrate() then adds the graph node only (out.skipped).
+  void skip();
 };
 
 class LoopCloser {
@@ -114,15 +139,29 @@ class LoopCloser {
   // pose. Filtered and described like an imitated scan; every step after is add_keyframe's.
   KeyframeClosure add_scan(const KeyframePose& keyframe, const Cloud& in_range, bool reset = false);
 
+  // add_keyframe in two halves, for a caller that runs them on two threads: prepare() imitates
+  // and describes the scan and queries the map; integrate() builds the place's cloud, verifies
+  // the candidates, joins the graph and the map. prepare() may run while integrate() runs on
+  // another thread (one call of each at a time); integrate() takes every prepared keyframe, in
+  // prepare's order. add_keyframe(...) == integrate(prepare(...)).
+  PreparedKeyframe prepare(const KeyframePose& keyframe, const IdPoint* points,
+                           std::size_t n_points, bool reset = false);
+  PreparedKeyframe prepare_scan(const KeyframePose& keyframe, const Cloud& in_range,
+                                bool reset = false);
+  KeyframeClosure integrate(PreparedKeyframe prepared);
+
   // Solves the graph once more if loops joined since the last solve (end of a run).
   GraphSolve finish();
+  // Grows whenever the graph's estimate of earlier poses changes (a solve, the anchoring).
+  long pose_revision() const { return pose_revision_; }
 
   // True once this session's poses are in the map's frame (always, without a saved map).
   bool anchored() const { return anchored_; }
   int anchored_at() const { return anchored_at_; }  // query keyframe of the anchoring loop
 
-  // Corrected world-to-camera pose of every keyframe so far, in input order.
-  std::vector<KeyframePose> corrected_poses() const;
+  // Corrected world-to-camera pose of every keyframe integrated so far, in input order; from
+  // `first` on.
+  std::vector<KeyframePose> corrected_poses(std::size_t first = 0) const;
   // The map with this session's places at their corrected poses (in the map's frame once
   // anchored): what a later session continues.
   Database corrected_map() const;
@@ -140,14 +179,19 @@ class LoopCloser {
     bool in_graph;
   };
   int add_graph_node(const KeyframePose& keyframe, bool reset);
-  void begin_keyframe(const KeyframePose& keyframe, KeyframeClosure& out);
-  // Steps 2-7 of a described keyframe: describe, query, verify, confirm, join, graph.
-  void close_place(const KeyframePose& keyframe, const Cloud& scan, KeyframeClosure& out);
+  PreparedKeyframe begin_keyframe(const KeyframePose& keyframe, bool reset);
+  void describe_and_query(const Cloud& scan, PreparedKeyframe& prepared);
+  // The query's band of recent places: those of the last exclude_recent described keyframes
+  // (their count, at the end of the database, when the keyframe of this ordinal is queried).
+  long recent_places(long ordinal) const;
+  // Steps 4-7 of a described keyframe: cloud, verify, confirm, join the graph and the map.
+  void close_place(PreparedKeyframe& prepared, KeyframeClosure& out);
   struct Proposal {
     Candidate candidate;
     std::optional<Eigen::Isometry3d> predicted;  // T_query_match from the estimate (nearby places)
   };
-  std::vector<Proposal> nearby_places(int keyframe_id, const std::vector<Candidate>& taken);
+  std::vector<Proposal> nearby_places(int keyframe_id, long ordinal,
+                                      const std::vector<Candidate>& taken);
   std::vector<Loop> verify(const TargetCloud& query, const BirdsEyeGrid* birds_eye, int keyframe_id,
                            const std::vector<Proposal>& proposals, std::size_t& last_place_index);
   int root(int run);  // the representative of the runs joined by loops
@@ -162,9 +206,15 @@ class LoopCloser {
   void anchor(const Loop& loop, int query_node);
 
   LoopCloserConfig config_;
+  // The caller's half (prepare): the imitator and the ids seen. The database is read there
+  // under a shared lock; integrate() adds to it under the exclusive one.
   ScanImitator imitator_;
+  std::unordered_set<int> prepared_ids_;
+  long prepared_described_ = 0;
+  std::unique_ptr<std::shared_mutex> db_mutex_ = std::make_unique<std::shared_mutex>();
   Database db_;
-  std::vector<PlaceCloud> clouds_;  // per database place
+  std::vector<long> place_ordinal_;  // per database place: its keyframe's ordinal
+  std::vector<PlaceCloud> clouds_;   // per database place
   PoseGraph graph_;
   std::vector<KeyframePose> input_poses_;
   std::unordered_map<int, std::size_t> pose_index_;  // keyframe id -> input_poses_ index
@@ -181,11 +231,11 @@ class LoopCloser {
   std::vector<Loop> loops_;
   std::map<std::pair<int, std::size_t>, std::size_t> loop_index_;  // (query, place) -> loops_
   std::vector<std::pair<std::size_t, int>> graph_loops_;           // loops_ index, graph loop id
-  Points3f raw_;
   StageTimes times_;
   int described_ = 0;
   int last_solve_at_ = -1000000;
   bool unsolved_loops_ = false;
+  long pose_revision_ = 0;
 };
 
 // Re-expresses VO points with corrected poses: each point keeps its place in its keyframe's

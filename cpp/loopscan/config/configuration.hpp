@@ -51,6 +51,10 @@ struct ClosureSettings {
   // and lateral versions, and the band of recent places a query skips).
   closure::LoopCloserConfig closer;
   double true_within_m = 10.0;  // with ground truth: a loop is true when its keyframes are closer
+  // close, slam: verification and solves on a worker thread (BackgroundLoopCloser), the
+  // recording replayed as fast as the worker takes it (WhenFull::Wait); false: one thread.
+  bool background = true;
+  int queue_capacity = 32;
 };
 
 struct OdometryMetricSettings {

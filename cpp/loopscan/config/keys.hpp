@@ -182,6 +182,11 @@ void visit_closure(V& v, Configuration& c) {
         "a query skips the places of the last N keyframes (the paper's 100-place mask)");
   v.key("true_within_m", c.closure.true_within_m, above(0, 1000),
         "with ground truth: a loop is true when its keyframes are this close (m)");
+  v.section("background", "close, slam: verification and graph solves on a worker thread", [&] {
+    v.key("enabled", c.closure.background, "false: everything on the caller's thread");
+    v.key("queue_capacity", c.closure.queue_capacity, closed(1, 1e5),
+          "described keyframes waiting for the worker; the reader waits beyond this");
+  });
   v.section("cloud", "each place's cloud for verification", [&] {
     v.key("voxel_m", l.cloud.voxel_m, closed(0.01, 10), "one point (the centroid) per voxel");
     v.key("max_points", l.cloud.max_points, closed(16, 1 << 22), "kept evenly beyond this");

@@ -50,13 +50,21 @@ std::vector<KeyframePose> read_sodso_poses(const std::string& path) {
   return poses;
 }
 
-std::vector<IdPoint> read_sodso_points(const std::string& path, PointReadStats* stats) {
-  LineReader reader(path);
-  PointReadStats counts;
-  std::vector<IdPoint> points;
+SodsoPointReader::SodsoPointReader(const std::string& path)
+    : reader_(std::make_unique<LineReader>(path)) {}
+SodsoPointReader::~SodsoPointReader() = default;
+SodsoPointReader::SodsoPointReader(SodsoPointReader&&) noexcept = default;
+SodsoPointReader& SodsoPointReader::operator=(SodsoPointReader&&) noexcept = default;
+
+bool SodsoPointReader::next(IdPoint& point) {
+  if (ahead_) {
+    point = *ahead_;
+    ahead_.reset();
+    return true;
+  }
+  LineReader& reader = *reader_;
   std::string_view line;
   std::string_view token;
-  int last_id = -1;
   double xyz[3];
   while (next_data_line(reader, line)) {
     Tokenizer tokens(line);
@@ -64,34 +72,53 @@ std::vector<IdPoint> read_sodso_points(const std::string& path, PointReadStats* 
     float intensity = 0.f;
     for (double& c : xyz) {
       if (!tokens.next(token) || !parse_number(token, c)) {
-        throw InputError(path, reader.line_number(), kPointExpected);
+        throw InputError(reader.path(), reader.line_number(), kPointExpected);
       }
     }
     // Parsed as float, not double-then-cast, to round exactly like the reference `>> float`.
     if (!tokens.next(token) || !parse_number(token, intensity) || !tokens.at_end()) {
-      throw InputError(path, reader.line_number(), kPointExpected);
+      throw InputError(reader.path(), reader.line_number(), kPointExpected);
     }
-    if (id < last_id) {
-      throw InputError(path, reader.line_number(), "point ids in non-decreasing order");
+    if (id < last_id_) {
+      throw InputError(reader.path(), reader.line_number(), "point ids in non-decreasing order");
     }
-    last_id = id;
+    last_id_ = id;
     const auto usable = [](double c) { return std::abs(c) <= limits::kMaxCoordinateM; };
     if (!usable(xyz[0]) || !usable(xyz[1]) || !usable(xyz[2]) || !std::isfinite(intensity)) {
-      ++counts.non_finite_skipped;
+      ++stats_.non_finite_skipped;
       continue;
     }
     if (intensity < 0.f || intensity > 255.f) {
       intensity = intensity < 0.f ? 0.f : 255.f;
-      ++counts.intensity_clamped;
+      ++stats_.intensity_clamped;
     }
-    IdPoint point;
     point.id = id;
     point.p_world = Eigen::Vector3d(xyz[0], xyz[1], xyz[2]);
     point.intensity = intensity;
-    points.push_back(point);
-    check_record_count(reader, points.size(), "points");
+    check_record_count(reader, ++count_, "points");
+    return true;
   }
-  if (stats != nullptr) *stats = counts;
+  return false;
+}
+
+void SodsoPointReader::read_until(int last_id, std::vector<IdPoint>& out) {
+  out.clear();
+  IdPoint point;
+  while (next(point)) {
+    if (point.id > last_id) {
+      ahead_ = point;
+      return;
+    }
+    out.push_back(point);
+  }
+}
+
+std::vector<IdPoint> read_sodso_points(const std::string& path, PointReadStats* stats) {
+  SodsoPointReader reader(path);
+  std::vector<IdPoint> points;
+  IdPoint point;
+  while (reader.next(point)) points.push_back(point);
+  if (stats != nullptr) *stats = reader.stats();
   return points;
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // Readers for the SO-DSO history files (keyframe poses and their 3D points).
 #include <cstddef>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,5 +25,31 @@ std::vector<KeyframePose> read_sodso_poses(const std::string& path);
 // both are counted in `*stats` (reset first) when given. The intensity is parsed directly as a
 // float, matching the rounding of the reference implementation's `>> float`.
 std::vector<IdPoint> read_sodso_points(const std::string& path, PointReadStats* stats = nullptr);
+
+class LineReader;
+
+// The same records streamed, for a recording too large to hold (what a VO hands over keyframe
+// by keyframe): read_sodso_points's checks, skips and clamps, one point or one keyframe's points
+// at a time.
+class SodsoPointReader {
+ public:
+  explicit SodsoPointReader(const std::string& path);
+  ~SodsoPointReader();
+  SodsoPointReader(SodsoPointReader&&) noexcept;
+  SodsoPointReader& operator=(SodsoPointReader&&) noexcept;
+  // The next point; false at the end of the file.
+  bool next(IdPoint& point);
+  // Replaces `out` with the points not yet read whose id is at most `last_id` (the points of the
+  // keyframe `last_id` and of any skipped keyframe before it).
+  void read_until(int last_id, std::vector<IdPoint>& out);
+  const PointReadStats& stats() const { return stats_; }
+
+ private:
+  std::unique_ptr<LineReader> reader_;
+  PointReadStats stats_;
+  std::size_t count_ = 0;
+  int last_id_ = -1;
+  std::optional<IdPoint> ahead_;  // read by read_until, beyond its keyframe
+};
 
 }  // namespace loopscan::io

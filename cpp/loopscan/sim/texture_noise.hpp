@@ -11,8 +11,9 @@
 // it), nothing is contracted or reordered. target_clones follow the CPU only (not
 // LOOPSCAN_NO_AVX2): the tests build the library once more per clone, each compiled for that
 // target only (LOOPSCAN_SIM_ONLY_TARGET, or LOOPSCAN_SIM_ONLY_DEFAULT), and check the images
-// are the same on every path.
-#if defined(LOOPSCAN_SIM_ONLY_DEFAULT)
+// are the same on every path. ThreadSanitizer builds have no clones: their instrumented
+// resolvers would run before the sanitizer's runtime starts.
+#if defined(LOOPSCAN_SIM_ONLY_DEFAULT) || defined(__SANITIZE_THREAD__)
 #define LOOPSCAN_SIM_CLONES
 #elif defined(LOOPSCAN_SIM_ONLY_TARGET)
 #define LOOPSCAN_SIM_CLONES __attribute__((target(LOOPSCAN_SIM_ONLY_TARGET)))

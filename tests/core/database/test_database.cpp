@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <thread>
 
 #include "loopscan/core/database/database.hpp"
 #include "loopscan/core/database/key_index.hpp"
@@ -203,6 +204,39 @@ TEST(Database, ThreadedExactSearchGivesTheSameResults) {
   for (int j = 0; j < 5; ++j) {
     EXPECT_EQ(a[j].index, b[j].index);
     EXPECT_EQ(a[j].distance, b[j].distance);
+  }
+}
+
+// query() is const and may run on several threads at once (the background loop closer's
+// caller queries while its worker reads the same database): each thread's results are the
+// serial ones. Run under ThreadSanitizer by scripts/test-thread-sanitizer.
+TEST(Database, ConcurrentQueriesGiveTheSerialResults) {
+  std::mt19937 rng(9);
+  Database db;
+  for (int i = 0; i < 400; ++i) db.add({0, i}, {random_signature(Method::ScanContext, rng)});
+  std::vector<PlaceDescriptor> queries;
+  for (int i = 0; i < 8; ++i) queries.push_back({random_signature(Method::ScanContext, rng)});
+  QueryOptions options;
+  options.exclude_recent = 10;
+  std::vector<std::vector<Candidate>> serial;
+  for (const PlaceDescriptor& q : queries) serial.push_back(db.query(q, 3, options));
+  std::vector<std::vector<std::vector<Candidate>>> found(3);
+  std::vector<std::thread> threads;
+  for (std::size_t t = 0; t < found.size(); ++t) {
+    threads.emplace_back([&, t] {
+      for (const PlaceDescriptor& q : queries) found[t].push_back(db.query(q, 3, options));
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  for (const auto& per_thread : found) {
+    ASSERT_EQ(per_thread.size(), serial.size());
+    for (std::size_t i = 0; i < serial.size(); ++i) {
+      ASSERT_EQ(per_thread[i].size(), serial[i].size());
+      for (std::size_t j = 0; j < serial[i].size(); ++j) {
+        EXPECT_EQ(per_thread[i][j].index, serial[i][j].index);
+        EXPECT_EQ(per_thread[i][j].distance, serial[i][j].distance);
+      }
+    }
   }
 }
 

@@ -1,0 +1,264 @@
+// Loop closing on a worker thread: the same results as the synchronous closer when the caller
+// waits for a slot, a caller that never waits when the worker is slow, and a snapshot of the
+// corrected poses that is consistent whenever it is read.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "loopscan/closure/background_closer.hpp"
+#include "loopscan/core/keyframe_stream.hpp"
+#include "loopscan/sim/trajectory.hpp"
+#include "loopscan/sim/vo_simulator.hpp"
+#include "loopscan/sim/world.hpp"
+
+namespace loopscan {
+namespace {
+
+using closure::BackgroundConfig;
+using closure::BackgroundLoopCloser;
+using closure::KeyframeClosure;
+using closure::LoopCloser;
+using closure::LoopCloserConfig;
+
+struct Drive {
+  sim::Trajectory route;
+  sim::VoOutput vo;
+};
+
+// The short built-in route (a block and its first street again) with a 2 % drifting VO.
+const Drive& drive() {
+  static const Drive d = [] {
+    Drive out{sim::make_builtin_trajectory("short"), {}};
+    sim::WorldConfig wc;
+    wc.seed = 1;
+    const sim::World world = sim::World::build(sim::lap_streets(out.route, 1), wc);
+    sim::Conditions conditions = sim::Conditions::for_season(sim::Season::Summer);
+    conditions.session_seed = 1;
+    sim::VoSimConfig vo;
+    vo.seed = conditions.noise_seed(wc.seed);
+    vo.drift_translation_per_m = 0.02;
+    vo.drift_rotation_deg_per_m = 0.06;
+    out.vo = sim::simulate_vo(out.route, sim::select_keyframes(out.route), world, conditions,
+                              sim::StereoCamera{}, vo);
+    return out;
+  }();
+  return d;
+}
+
+template <typename Closer>
+void stream(Closer& closer, const Drive& d) {
+  for_each_keyframe(d.vo.poses, d.vo.points,
+                    [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+                      closer.add_keyframe(k, p, n);
+                    });
+  closer.finish();
+}
+
+bool same_loops(const std::vector<closure::Loop>& a, const std::vector<closure::Loop>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].query != b[i].query || !(a[i].match == b[i].match) || a[i].verdict != b[i].verdict ||
+        a[i].T_query_match.matrix() != b[i].T_query_match.matrix()) {
+      return false;
+    }
+  }
+  return true;
+}
+
+int accepted(const std::vector<closure::Loop>& loops) {
+  int n = 0;
+  for (const closure::Loop& l : loops) n += l.accepted();
+  return n;
+}
+
+// A queue the caller waits on gives the synchronous closer's results exactly, even when the
+// worker is much slower than the caller: a query sees the same places whatever the worker's
+// pace (the band of recent places it skips is longer than the queue).
+TEST(BackgroundLoopCloser, WaitingForASlotGivesTheSynchronousResults) {
+  const Drive& d = drive();
+  const LoopCloserConfig config = LoopCloserConfig::make(Method::ScanContext);
+  LoopCloser sync(config);
+  stream(sync, d);
+  ASSERT_GE(accepted(sync.loops()), 3);
+  for (const int capacity : {1, 4}) {
+    BackgroundConfig bc;
+    bc.queue_capacity = capacity;
+    bc.when_full = BackgroundConfig::WhenFull::Wait;
+    BackgroundLoopCloser background(config, bc);
+    std::vector<int> closed_in_order;
+    background.set_on_closed([&](const KeyframeClosure& c) {
+      closed_in_order.push_back(c.keyframe);
+      std::this_thread::sleep_for(std::chrono::microseconds(500));  // a slow worker
+    });
+    stream(background, d);
+    EXPECT_TRUE(same_loops(sync.loops(), background.loops())) << "capacity " << capacity;
+    const std::vector<KeyframePose> a = sync.corrected_poses(), b = background.corrected_poses();
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].id, b[i].id);
+      EXPECT_EQ(a[i].T_cam_world, b[i].T_cam_world);
+    }
+    EXPECT_EQ(background.corrected_map().size(), sync.database().size());
+    ASSERT_EQ(closed_in_order.size(), d.vo.poses.size());  // every keyframe, in input order
+    for (std::size_t i = 0; i < d.vo.poses.size(); ++i)
+      EXPECT_EQ(closed_in_order[i], d.vo.poses[i].id);
+    EXPECT_GT(background.queue().waits, 0);  // the slow worker made the caller wait
+    EXPECT_TRUE(background.poll().empty());  // closures went to the callback
+  }
+}
+
+// With a worker far slower than the keyframes and a queue of 2, the caller never waits: the
+// oldest waiting keyframes are left unverified, yet every keyframe joins the graph, the queue
+// never holds more than 2 places, and the loops the worker could verify still close.
+TEST(BackgroundLoopCloser, ASlowWorkerSkipsVerificationButNeverStallsTheCaller) {
+  const Drive& d = drive();
+  const LoopCloserConfig config = LoopCloserConfig::make(Method::ScanContext);
+  BackgroundConfig bc;
+  bc.queue_capacity = 2;
+  bc.when_full = BackgroundConfig::WhenFull::SkipVerification;
+  BackgroundLoopCloser closer(config, bc);
+  std::atomic<bool> slow{false};
+  std::atomic<int> skipped_closures{0};
+  closer.set_on_closed([&](const KeyframeClosure& c) {
+    skipped_closures += c.skipped;
+    if (slow) std::this_thread::sleep_for(std::chrono::milliseconds(3));
+  });
+  std::size_t given = 0;
+  int most_held = 0;
+  const std::size_t n_keyframes = d.vo.poses.size();
+  for_each_keyframe(d.vo.poses, d.vo.points,
+                    [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+                      // The first street (the one the drive revisits at its end) at a pace the
+                      // worker keeps up with, the next quarter of the drive far faster.
+                      slow = given >= n_keyframes / 4 && given < n_keyframes / 2;
+                      if (!slow) closer.wait();
+                      closer.add_keyframe(k, p, n);
+                      ++given;
+                      most_held = std::max(most_held, closer.queue().holding_places);
+                      EXPECT_EQ(closer.corrected_poses().size(), given);
+                    });
+  closer.finish();
+  const closure::QueueStats q = closer.queue();
+  EXPECT_EQ(q.waits, 0);
+  EXPECT_GT(q.skipped, 10);
+  EXPECT_LE(most_held, 2);
+  const closure::StageTimes t = closer.times();
+  EXPECT_EQ(t.keyframes, int(d.vo.poses.size()));
+  EXPECT_EQ(t.skipped, q.skipped);
+  EXPECT_EQ(closer.corrected_poses().size(), d.vo.poses.size());
+  EXPECT_EQ(closer.corrected_map().size(), std::size_t(t.described - t.linked));
+  EXPECT_GE(accepted(closer.loops()), 1);  // the revisit of the first street
+  EXPECT_EQ(skipped_closures, q.skipped);
+}
+
+// Read from another thread while the worker solves: the snapshot always holds every keyframe
+// given so far (none half-written: ids in input order, rigid poses), and at the end the graph's.
+TEST(BackgroundLoopCloser, CorrectedPosesAreAConsistentSnapshotAtAnyTime) {
+  const Drive& d = drive();
+  BackgroundConfig bc;
+  bc.when_full = BackgroundConfig::WhenFull::Wait;
+  BackgroundLoopCloser closer(LoopCloserConfig::make(Method::ScanContext), bc);
+  std::atomic<std::size_t> given{0};
+  std::atomic<bool> done{false};
+  std::atomic<int> reads{0}, bad{0};
+  std::thread reader([&] {
+    while (!done) {
+      const std::size_t at_least = given;
+      const std::vector<KeyframePose> poses = closer.corrected_poses();
+      bool ok = poses.size() >= at_least && poses.size() <= d.vo.poses.size();
+      for (std::size_t i = 0; ok && i < poses.size(); ++i) {
+        const Eigen::Matrix3d R = poses[i].T_cam_world.leftCols<3>();
+        ok = poses[i].id == d.vo.poses[i].id && poses[i].T_cam_world.allFinite() &&
+             (R.transpose() * R - Eigen::Matrix3d::Identity()).norm() < 1e-9;
+      }
+      bad += !ok;
+      ++reads;
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+  });
+  for_each_keyframe(d.vo.poses, d.vo.points,
+                    [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+                      closer.add_keyframe(k, p, n);
+                      ++given;
+                    });
+  closer.finish();
+  done = true;
+  reader.join();
+  EXPECT_GT(reads, 10);
+  EXPECT_EQ(bad, 0);
+  LoopCloser sync(LoopCloserConfig::make(Method::ScanContext));
+  stream(sync, d);
+  const std::vector<KeyframePose> a = sync.corrected_poses(), b = closer.corrected_poses();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].T_cam_world, b[i].T_cam_world);
+}
+
+// Waiting keyframes are placed where the graph will put them: by their VO motion from the
+// latest estimate (checked against the synchronous closer before any loop moves the graph).
+TEST(BackgroundLoopCloser, WaitingKeyframesContinueTheEstimateByTheirOdometry) {
+  const Drive& d = drive();
+  BackgroundConfig bc;
+  bc.queue_capacity = 1000;
+  BackgroundLoopCloser closer(LoopCloserConfig::make(Method::ScanContext), bc);
+  std::atomic<bool> release{false};
+  closer.set_on_closed([&](const KeyframeClosure&) {
+    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  LoopCloser sync(LoopCloserConfig::make(Method::ScanContext));
+  const std::size_t n_keyframes = 40;  // before the revisit: no loop, no solve
+  std::size_t i = 0;
+  for_each_keyframe(d.vo.poses, d.vo.points,
+                    [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+                      if (i++ >= n_keyframes) return;
+                      closer.add_keyframe(k, p, n, i == 20);  // a VO reset half way
+                      sync.add_keyframe(k, p, n, i == 20);
+                    });
+  EXPECT_GE(closer.queue().waiting, int(n_keyframes) - 1);  // the worker holds the first
+  const std::vector<KeyframePose> a = sync.corrected_poses(), b = closer.corrected_poses();
+  ASSERT_EQ(b.size(), n_keyframes);
+  for (std::size_t k = 0; k < n_keyframes; ++k) {
+    EXPECT_EQ(a[k].id, b[k].id);
+    EXPECT_LT((a[k].T_cam_world - b[k].T_cam_world).norm(), 1e-9) << k;
+  }
+  release = true;
+}
+
+TEST(BackgroundLoopCloser, BadInputIsRefusedOnTheCallersThread) {
+  BackgroundLoopCloser closer(LoopCloserConfig::make(Method::ScanContext));
+  KeyframePose k;
+  k.id = 4;
+  closer.add_keyframe(k, nullptr, 0);
+  EXPECT_THROW(closer.add_keyframe(k, nullptr, 0), std::invalid_argument);  // the same id again
+  k.id = 5;
+  k.T_cam_world(0, 3) = std::nan("");
+  EXPECT_THROW(closer.add_keyframe(k, nullptr, 0), std::invalid_argument);
+  closer.finish();
+  EXPECT_EQ(closer.corrected_poses().size(), 1u);
+  BackgroundConfig bad;
+  bad.queue_capacity = 0;
+  EXPECT_THROW(BackgroundLoopCloser(LoopCloserConfig::make(Method::ScanContext), bad),
+               std::invalid_argument);
+}
+
+// Destroyed with keyframes still waiting and the worker busy: it stops without hanging.
+TEST(BackgroundLoopCloser, StopsWithKeyframesStillWaiting) {
+  const Drive& d = drive();
+  BackgroundConfig bc;
+  bc.queue_capacity = 1000;
+  auto closer =
+      std::make_unique<BackgroundLoopCloser>(LoopCloserConfig::make(Method::ScanContext), bc);
+  closer->set_on_closed(
+      [](const KeyframeClosure&) { std::this_thread::sleep_for(std::chrono::milliseconds(2)); });
+  for_each_keyframe(d.vo.poses, d.vo.points,
+                    [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+                      closer->add_keyframe(k, p, n);
+                    });
+  EXPECT_GT(closer->queue().waiting, 0);
+  closer.reset();
+}
+
+}  // namespace
+}  // namespace loopscan
