@@ -71,8 +71,9 @@ void run_close(const CloseArgs& a) {
   if (!a.map_gt.empty()) map_gt = read_ground_truth(a.map_gt, {});
   const ClosureRun run = run_closer(
       config, poses,
-      [&](int keyframe_id, std::vector<IdPoint>& out) {
-        point_reader.read_until(keyframe_id, out);
+      [&point_reader, buffer = std::vector<IdPoint>()](int keyframe_id) mutable {
+        point_reader.read_until(keyframe_id, buffer);
+        return std::pair<const IdPoint*, std::size_t>(buffer.data(), buffer.size());
       },
       resets, !a.quiet, closure_queue(c), map ? &*map : nullptr);
   std::vector<IdPoint> after_last_keyframe;  // read to the end, so that a bad line is reported

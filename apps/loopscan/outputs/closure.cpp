@@ -181,13 +181,11 @@ void replay(Closer& closer, const std::vector<KeyframePose>& poses, const Keyfra
   const auto count = [&](const closure::KeyframeClosure& closed) {
     accepted += int(closed.accepted.size());
   };
-  std::vector<IdPoint> keyframe_points;
   for (const KeyframePose& k : poses) {
-    points(k.id, keyframe_points);
+    const auto [first, n] = points(k.id);
     const bool reset = std::binary_search(resets.begin(), resets.end(), k.id);
     const auto start = std::chrono::steady_clock::now();
-    const closure::KeyframeClosure result =
-        closer.add_keyframe(k, keyframe_points.data(), keyframe_points.size(), reset);
+    const closure::KeyframeClosure result = closer.add_keyframe(k, first, n, reset);
     double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     if constexpr (std::is_same_v<Closer, closure::BackgroundLoopCloser>) {
@@ -222,10 +220,10 @@ void replay(Closer& closer, const std::vector<KeyframePose>& poses, const Keyfra
 }  // namespace
 
 KeyframePoints points_in_memory(const std::vector<IdPoint>& points) {
-  return [&points, next = std::size_t(0)](int keyframe_id, std::vector<IdPoint>& out) mutable {
+  return [&points, next = std::size_t(0)](int keyframe_id) mutable {
     const std::size_t first = next;
     while (next < points.size() && points[next].id <= keyframe_id) ++next;
-    out.assign(points.begin() + long(first), points.begin() + long(next));
+    return std::pair<const IdPoint*, std::size_t>(points.data() + first, next - first);
   };
 }
 

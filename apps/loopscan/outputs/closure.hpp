@@ -53,9 +53,9 @@ std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses);
 // fast as its worker takes the keyframes (closure_queue(c) gives the configured one).
 // `map` (optional): a saved map this session continues (config.recognition.session must be
 // new to it).
-// Each keyframe's points as the VO handed them over: fills `out` with the points of the
-// keyframe of this id (and of any earlier one not asked for); asked in keyframe order.
-using KeyframePoints = std::function<void(int keyframe_id, std::vector<IdPoint>& out)>;
+// Each keyframe's points as the VO handed them over: the points of the keyframe of this id (and
+// of any earlier one not asked for), valid until the next call; asked in keyframe order.
+using KeyframePoints = std::function<std::pair<const IdPoint*, std::size_t>(int keyframe_id)>;
 KeyframePoints points_in_memory(const std::vector<IdPoint>& points);  // sorted by id
 ClosureRun run_closer(const closure::LoopCloserConfig& config,
                       const std::vector<KeyframePose>& poses, const KeyframePoints& points,

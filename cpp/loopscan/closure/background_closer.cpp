@@ -53,19 +53,11 @@ void BackgroundLoopCloser::rethrow_worker_error() {
 KeyframeClosure BackgroundLoopCloser::add_keyframe(const KeyframePose& keyframe,
                                                    const IdPoint* points, std::size_t n_points,
                                                    bool reset) {
-  {
-    const std::lock_guard lock(mutex_);
-    rethrow_worker_error();
-  }
   return enqueue(closer_.prepare(keyframe, points, n_points, reset));
 }
 
 KeyframeClosure BackgroundLoopCloser::add_scan(const KeyframePose& keyframe, const Cloud& in_range,
                                                bool reset) {
-  {
-    const std::lock_guard lock(mutex_);
-    rethrow_worker_error();
-  }
   return enqueue(closer_.prepare_scan(keyframe, in_range, reset));
 }
 
@@ -73,6 +65,7 @@ KeyframeClosure BackgroundLoopCloser::enqueue(PreparedKeyframe prepared) {
   KeyframeClosure known = prepared.out;
   {
     std::unique_lock lock(mutex_);
+    rethrow_worker_error();
     stats_.last_wait_ms = 0;
     if (holds_place(prepared) && full_entries_ >= background_.queue_capacity) {
       if (background_.when_full == BackgroundConfig::WhenFull::Wait) {
@@ -154,7 +147,7 @@ void BackgroundLoopCloser::publish(KeyframeClosure out, const KeyframePose& inpu
         closures_.pop_front();
         ++stats_.dropped_closures;
       }
-      closures_.push_back(out);
+      closures_.push_back(std::move(out));
     }
   }
   if (callback) callback(out);
