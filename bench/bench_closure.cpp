@@ -4,10 +4,14 @@
 //   build/bench/loopscan_bench_closure [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <random>
+#include <tuple>
 
 #include "loopscan/closure/pose_graph.hpp"
 #include "loopscan/closure/verification.hpp"
@@ -130,69 +134,155 @@ BENCHMARK(BM_BirdsEyeSearch)->Unit(benchmark::kMillisecond);
 
 // A drifted route of n keyframes 2 m apart around blocks of 200 m, driven twice; loops join
 // the second lap to the first every 5 keyframes.
-struct Graph {
-  closure::PoseGraph graph;
-  std::vector<std::tuple<int, int, Eigen::Isometry3d>> loops;
+struct Drive {
+  std::vector<Eigen::Isometry3d> gt, odometry;  // odometry[i]: T_{i-1,i} (odometry[0] unused)
+  std::vector<std::tuple<int, int, Eigen::Isometry3d>> loops;  // (query, match, T_query_match)
 };
 
-Graph drifted_graph(int n) {
-  Graph g;
+Drive drifted_drive(int n) {
+  Drive d;
   std::mt19937 rng(1);
   std::normal_distribution<double> noise(0, 1);
-  std::vector<Eigen::Isometry3d> gt;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity(), vo = T;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  d.odometry.push_back(Eigen::Isometry3d::Identity());
   for (int i = 0; i < n; ++i) {
-    gt.push_back(T);
+    d.gt.push_back(T);
     Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
     step.translation() = Eigen::Vector3d(0, 0, 2.0);
     if ((i % (n / 2)) % 100 == 99) step.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d(0, -1, 0)).toRotationMatrix();
     Eigen::Isometry3d drift = Eigen::Isometry3d::Identity();
     drift.linear() = Eigen::AngleAxisd(0.1 * M_PI / 180 * noise(rng), Eigen::Vector3d(0, -1, 0)).toRotationMatrix();
     drift.translation() = Eigen::Vector3d(noise(rng), 0, noise(rng)) * 0.02;
-    const Eigen::Isometry3d odo = step * drift;
-    if (i == 0) {
-      g.graph.add_node(vo);
-    } else {
-      vo = vo * odo;
-      g.graph.add_node(vo, &odo);
-    }
+    d.odometry.push_back(step * drift);  // T_{i,i+1}
     T = T * step;
   }
-  for (int q = n / 2; q < n; q += 5) g.loops.emplace_back(q, q - n / 2, gt[q].inverse() * gt[q - n / 2]);
-  return g;
+  for (int q = n / 2; q < n; q += 5)
+    d.loops.emplace_back(q, q - n / 2, d.gt[q].inverse() * d.gt[q - n / 2]);
+  return d;
+}
+
+// Nodes [0, n) of the drive, from its odometry.
+void add_nodes(closure::PoseGraph& g, const Drive& d, int from, int to) {
+  for (int i = from; i < to; ++i) {
+    if (i == 0) {
+      g.add_node(Eigen::Isometry3d::Identity());
+    } else {
+      g.add_node(g.pose(i - 1) * d.odometry[std::size_t(i)], &d.odometry[std::size_t(i)]);
+    }
+  }
+}
+
+closure::PoseGraphConfig graph_config(bool incremental) {
+  closure::PoseGraphConfig c;
+  c.incremental = incremental;
+  return c;
 }
 
 void BM_GraphSolveAllLoops(benchmark::State& state) {  // every loop at once, from the drift
   const int n = int(state.range(0));
+  const Drive d = drifted_drive(n);
   closure::GraphSolve s;
   for (auto _ : state) {
     state.PauseTiming();
-    Graph g = drifted_graph(n);
-    for (const auto& [a, b, T] : g.loops) g.graph.add_loop_unsolved(a, b, T);
+    closure::PoseGraph g;
+    add_nodes(g, d, 0, n);
+    for (const auto& [a, b, T] : d.loops) g.add_loop_unsolved(a, b, T);
     state.ResumeTiming();
-    s = g.graph.optimise();
+    s = g.optimise();
   }
   state.counters["iterations"] = s.iterations;
-  state.counters["loops"] = double(n / 10);
+  state.counters["loops"] = double(d.loops.size());
 }
 BENCHMARK(BM_GraphSolveAllLoops)->Arg(1000)->Arg(5000)->Arg(20000)->Unit(benchmark::kMillisecond)->Iterations(3);
 
-void BM_GraphAddLoopOnline(benchmark::State& state) {  // one more loop into a solved graph
+// One more loop into a solved graph; Arg 1: 1 local solve (the default), 0: the whole graph.
+void BM_GraphAddLoopOnline(benchmark::State& state) {
   const int n = int(state.range(0));
-  Graph g = drifted_graph(n);
-  for (std::size_t i = 0; i + 1 < g.loops.size(); ++i) {
-    const auto& [a, b, T] = g.loops[i];
-    g.graph.add_loop_unsolved(a, b, T);
+  const Drive d = drifted_drive(n);
+  closure::PoseGraph g(graph_config(state.range(1) == 1));
+  add_nodes(g, d, 0, n);
+  for (std::size_t i = 0; i + 1 < d.loops.size(); ++i) {
+    const auto& [a, b, T] = d.loops[i];
+    g.add_loop_unsolved(a, b, T);
   }
-  g.graph.optimise();
-  const auto& [a, b, T] = g.loops.back();
+  g.optimise();
+  const auto& [a, b, T] = d.loops.back();
+  closure::GraphSolve s;
   for (auto _ : state) {  // (each iteration adds the loop once more: harmless duplicates)
-    closure::GraphSolve s;
-    g.graph.add_loop(a, b, T, &s);
-    state.counters["iterations"] = s.iterations;
+    g.add_loop(a, b, T, &s);
   }
+  state.counters["iterations"] = s.iterations;
+  state.counters["moved_nodes"] = double(s.moved_nodes);
 }
-BENCHMARK(BM_GraphAddLoopOnline)->Arg(1000)->Arg(5000)->Arg(20000)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_GraphAddLoopOnline)
+    ->ArgsProduct({{1000, 5000, 20000}, {1, 0}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+// The whole drive online, as the loop closer sees it: keyframes arrive, each loop is added
+// (and solved) when its query keyframe arrives. Reports the time from a loop to corrected poses
+// (median, 99th percentile, the first loop closing the lap, the worst) and how far the online
+// estimate ends from the whole graph's solution of the same loops.
+void BM_GraphDriveOnline(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const Drive d = drifted_drive(n);
+  std::vector<double> ms;
+  double first = 0, worst_m = 0, rms_m = 0, moved = 0, online_gt = 0, whole_gt = 0;
+  for (auto _ : state) {
+    closure::PoseGraph g;
+    ms.clear();
+    int added = 0;
+    for (const auto& [q, m, T] : d.loops) {
+      add_nodes(g, d, added, q + 1);
+      added = q + 1;
+      const auto t0 = std::chrono::steady_clock::now();
+      closure::GraphSolve s;
+      g.add_loop(q, m, T, &s);
+      ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      moved += double(s.moved_nodes);
+    }
+    state.PauseTiming();
+    first = ms.front();
+    closure::PoseGraph whole(graph_config(false));
+    add_nodes(whole, d, 0, added);
+    for (const auto& [q, m, T] : d.loops) whole.add_loop_unsolved(q, m, T);
+    whole.optimise();
+    worst_m = rms_m = online_gt = whole_gt = 0;
+    for (int i = 0; i < added; ++i) {
+      const double e = (g.position(i) - whole.position(i)).norm();
+      worst_m = std::max(worst_m, e);
+      rms_m += e * e;
+      online_gt += (g.position(i) - d.gt[std::size_t(i)].translation()).squaredNorm();
+      whole_gt += (whole.position(i) - d.gt[std::size_t(i)].translation()).squaredNorm();
+    }
+    rms_m = std::sqrt(rms_m / added);
+    online_gt = std::sqrt(online_gt / added);
+    whole_gt = std::sqrt(whole_gt / added);
+    state.ResumeTiming();
+  }
+  std::vector<double> sorted = ms;
+  std::sort(sorted.begin(), sorted.end());
+  const auto at = [&](double f) {
+    return sorted[std::min(sorted.size() - 1, std::size_t(f * double(sorted.size())))];
+  };
+  state.counters["loops"] = double(ms.size());
+  state.counters["p50_ms"] = at(0.5);
+  state.counters["p99_ms"] = at(0.99);
+  state.counters["first_ms"] = first;
+  state.counters["max_ms"] = sorted.back();
+  state.counters["moved_nodes"] = moved / double(ms.size() * state.iterations());
+  state.counters["vs_whole_max_m"] = worst_m;
+  state.counters["vs_whole_rms_m"] = rms_m;
+  state.counters["online_error_m"] = online_gt;  // RMS against the ground truth, same frame
+  state.counters["whole_error_m"] = whole_gt;
+}
+BENCHMARK(BM_GraphDriveOnline)
+    ->Arg(1000)
+    ->Arg(5000)
+    ->Arg(20000)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace loopscan

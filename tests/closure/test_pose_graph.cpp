@@ -62,8 +62,8 @@ closure::PoseGraphConfig precise_loops() {
   return c;
 }
 
-Built build(unsigned seed) {
-  Built b{closure::PoseGraph(precise_loops()), ground_truth(), {}};
+Built build(unsigned seed, const closure::PoseGraphConfig& config = precise_loops()) {
+  Built b{closure::PoseGraph(config), ground_truth(), {}};
   b.vo = drifted(b.gt, seed);
   for (std::size_t i = 0; i < b.vo.size(); ++i) {
     const Eigen::Isometry3d odo = i ? b.vo[i - 1].inverse() * b.vo[i] : Eigen::Isometry3d::Identity();
@@ -204,6 +204,77 @@ TEST(PoseGraph, ALoopPullsOnlyAlongTheDirectionsItMeasured) {
   g.add_node(Eigen::Isometry3d::Identity());
   EXPECT_THROW(g.add_loop(0, 1, Eigen::Isometry3d::Identity(), nullptr, nullptr, &singular),
                std::invalid_argument);
+}
+
+// Local solves with a window far smaller than the graph (30 of 400 nodes) against the whole
+// graph solved after every loop: the same loops kept, the same poses within 5 cm.
+TEST(PoseGraph, LocalSolvesFollowTheWholeGraph) {
+  closure::PoseGraphConfig local = precise_loops(), whole = precise_loops();
+  local.window_nodes = 30;
+  local.max_border_strain = 0.05;  // (at 0.02 this small graph is solved whole each time)
+  whole.incremental = false;
+  Built a = build(11, local), b = build(11, whole);
+  std::mt19937 rng(12);
+  std::normal_distribution<double> n(0, 1);
+  int local_solves = 0;
+  for (int q = 200; q < 400; q += 5) {
+    Eigen::Isometry3d T = a.gt[q].inverse() * a.gt[q - 200];
+    T.translation() += Eigen::Vector3d(n(rng), n(rng), n(rng)) * 0.03;
+    closure::GraphSolve s;
+    EXPECT_TRUE(a.graph.add_loop(q, q - 200, T, &s)) << q;
+    EXPECT_TRUE(b.graph.add_loop(q, q - 200, T)) << q;
+    EXPECT_TRUE(s.ran);
+    if (!s.whole_graph) {
+      ++local_solves;
+      EXPECT_LT(s.moved_nodes, a.graph.size());
+      EXPECT_TRUE(a.graph.approximate());
+    }
+  }
+  EXPECT_GT(local_solves, 10);  // a good part of the loops were solved locally
+  double worst = 0;
+  for (std::size_t i = 0; i < a.graph.size(); ++i) {
+    worst = std::max(worst, (a.graph.position(int(i)) - b.graph.position(int(i))).norm());
+  }
+  EXPECT_LT(worst, 0.05);
+  EXPECT_EQ(a.graph.loop_count(), b.graph.loop_count());
+  a.graph.optimise();
+  EXPECT_FALSE(a.graph.approximate());
+}
+
+// The first loop after a long drift pulls the whole lap: its window grows to the whole graph
+// and the result is the whole graph's.
+TEST(PoseGraph, TheFirstLoopAfterALongDriftGrowsItsWindowToTheWholeGraph) {
+  closure::PoseGraphConfig local = precise_loops(), whole = precise_loops();
+  local.window_nodes = 30;
+  whole.incremental = false;
+  Built a = build(13, local), b = build(13, whole);
+  const Eigen::Isometry3d T = a.gt[300].inverse() * a.gt[100];
+  closure::GraphSolve s;
+  EXPECT_TRUE(a.graph.add_loop(300, 100, T, &s));
+  EXPECT_TRUE(b.graph.add_loop(300, 100, T));
+  EXPECT_TRUE(s.whole_graph);
+  EXPECT_EQ(s.moved_nodes, a.graph.size());
+  EXPECT_FALSE(a.graph.approximate());
+  for (int i : {0, 150, 250, 399}) {
+    EXPECT_LT((a.graph.position(i) - b.graph.position(i)).norm(), 1e-6) << i;
+  }
+}
+
+// update() solves around new keyframes and loops only; with nothing new it does nothing.
+TEST(PoseGraph, UpdateSolvesOnlyWhatChanged) {
+  closure::PoseGraphConfig local = precise_loops();
+  local.window_nodes = 30;
+  Built a = build(15, local);
+  a.graph.add_loop_unsolved(300, 100, a.gt[300].inverse() * a.gt[100]);
+  EXPECT_TRUE(a.graph.update().ran);
+  EXPECT_FALSE(a.graph.update().ran);
+  const Eigen::Vector3d before = a.graph.position(200);
+  a.graph.add_loop_unsolved(305, 105, a.graph.pose(305).inverse() * a.graph.pose(105));
+  const closure::GraphSolve s = a.graph.update();
+  EXPECT_TRUE(s.ran);
+  EXPECT_FALSE(s.whole_graph);  // a loop the estimate already agrees with stays local
+  EXPECT_LT(s.moved_nodes, a.graph.size());
+  EXPECT_LT((a.graph.position(200) - before).norm(), 1e-12);  // far away: untouched
 }
 
 }  // namespace

@@ -471,7 +471,7 @@ void LoopCloser::join_graph(KeyframeClosure& out) {
     graph_loops_.push_back({loop_index_.at({loop.query, loop.place_index}), id});
   }
   if (unsolved_loops_ && described_ - last_solve_at_ >= config_.min_keyframes_between_solves) {
-    out.solve = graph_.optimise();
+    out.solve = graph_.update();
     ++pose_revision_;
     last_solve_at_ = described_;
     unsolved_loops_ = false;
@@ -493,9 +493,10 @@ void LoopCloser::update_verdicts(KeyframeClosure& out) {
   }
 }
 
+// The drive ends on the whole graph's solution: online solves were local.
 GraphSolve LoopCloser::finish() {
   GraphSolve s;
-  if (unsolved_loops_) {
+  if (unsolved_loops_ || graph_.approximate()) {
     const ScopedTimer timer(times_.graph);
     s = graph_.optimise();
     ++pose_revision_;

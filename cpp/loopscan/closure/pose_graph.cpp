@@ -89,18 +89,41 @@ struct PoseGraph::Impl {
   PoseGraphConfig config;
   std::vector<Node> nodes;
   std::vector<Edge> edges;
+  std::vector<std::vector<int>> node_edges;  // per node: its edges
   std::vector<int> run_starts;  // nodes that begin a VO run (prior, first one fixed)
   std::vector<char> fixed;      // per node: a saved map's place
   bool has_fixed = false;
   int last_movable = -1;  // the node odometry continues from
+  std::vector<int> changed;  // nodes added or given an edge since the last solve
+  bool approximate = false;  // a local solve ran since the last whole-graph one
 
-  double edge_cost(const Edge& e) const {
-    double r[6];
-    RelativePoseError{&e}(nodes[e.a].p, nodes[e.a].q, nodes[e.b].p, nodes[e.b].q, r);
-    double s = 0;
-    for (double v : r) s += v * v;
-    return s;
+  int add_node(const Node& n, bool is_fixed) {
+    nodes.push_back(n);
+    node_edges.emplace_back();
+    fixed.push_back(is_fixed ? 1 : 0);
+    const int id = static_cast<int>(nodes.size() - 1);
+    changed.push_back(id);
+    return id;
   }
+
+  int add_edge(const Edge& e) {
+    const int id = static_cast<int>(edges.size());
+    edges.push_back(e);
+    node_edges[std::size_t(e.a)].push_back(id);
+    node_edges[std::size_t(e.b)].push_back(id);
+    changed.push_back(e.a);
+    changed.push_back(e.b);
+    return id;
+  }
+
+  Eigen::Matrix<double, 6, 1> residual(const Edge& e) const {
+    Eigen::Matrix<double, 6, 1> r;
+    RelativePoseError{&e}(nodes[std::size_t(e.a)].p, nodes[std::size_t(e.a)].q,
+                          nodes[std::size_t(e.b)].p, nodes[std::size_t(e.b)].q, r.data());
+    return r;
+  }
+
+  double edge_cost(const Edge& e) const { return residual(e).squaredNorm(); }
 
   double cost() const {
     double c = 0;
@@ -110,40 +133,61 @@ struct PoseGraph::Impl {
     return 0.5 * c;
   }
 
-  GraphSolve solve() {
+  // Solves for the nodes marked in `inside` (nullptr: every node); the other ends of edges
+  // leaving the window hold still. Costs are of the edges the solve can change.
+  GraphSolve solve(const std::vector<char>* inside) {
     GraphSolve s;
     s.ran = true;
     const auto t0 = std::chrono::steady_clock::now();
-    s.cost_before = cost();
+    const auto moves = [&](int i) { return !inside || (*inside)[std::size_t(i)]; };
+    std::vector<const Edge*> touched;
+    for (const Edge& e : edges) {
+      if (e.active && (moves(e.a) || moves(e.b))) touched.push_back(&e);
+    }
+    const auto touched_cost = [&] {
+      double c = 0;
+      for (const Edge* e : touched) c += edge_cost(*e);
+      return 0.5 * c;
+    };
+    s.cost_before = touched_cost();
     ceres::Problem::Options po;
     po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(po);
     ceres::EigenQuaternionManifold quaternion;
-    for (Node& n : nodes) {
+    const auto held = [&](std::size_t i) { return fixed[i] || (i == 0 && !has_fixed); };
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      if (!moves(int(i))) continue;
+      Node& n = nodes[i];
       problem.AddParameterBlock(n.p, 3);
       problem.AddParameterBlock(n.q, 4, &quaternion);
+      if (held(i)) {
+        problem.SetParameterBlockConstant(n.p);
+        problem.SetParameterBlockConstant(n.q);
+      }
     }
-    for (const Edge& e : edges) {
-      if (!e.active) continue;
+    for (const Edge* e : touched) {
+      for (const int end : {e->a, e->b}) {
+        if (moves(end)) continue;
+        Node& n = nodes[std::size_t(end)];
+        problem.AddParameterBlock(n.p, 3);
+        problem.AddParameterBlock(n.q, 4);
+        problem.SetParameterBlockConstant(n.p);
+        problem.SetParameterBlockConstant(n.q);
+      }
       auto* f = new ceres::AutoDiffCostFunction<RelativePoseError, 6, 3, 4, 3, 4>(
-          new RelativePoseError{&e});
-      problem.AddResidualBlock(f, nullptr, nodes[e.a].p, nodes[e.a].q, nodes[e.b].p,
-                               nodes[e.b].q);
+          new RelativePoseError{e});
+      problem.AddResidualBlock(f, nullptr, nodes[std::size_t(e->a)].p, nodes[std::size_t(e->a)].q,
+                               nodes[std::size_t(e->b)].p, nodes[std::size_t(e->b)].q);
     }
     // Later VO runs float: a prior far weaker than any edge (at the current estimate) only
     // fixes their gauge until a loop ties them to the first run.
     for (std::size_t i = has_fixed ? 0 : 1; i < run_starts.size(); ++i) {
-      Node& n = nodes[run_starts[i]];
+      if (!moves(run_starts[i])) continue;
+      Node& n = nodes[std::size_t(run_starts[i])];
       const Eigen::Isometry3d T = to_pose(n);
       auto* f = new ceres::AutoDiffCostFunction<PriorError, 6, 3, 4>(
           new PriorError{T.translation(), Eigen::Quaterniond(T.rotation())});
       problem.AddResidualBlock(f, nullptr, n.p, n.q);
-    }
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-      if (fixed[i] || (i == 0 && !has_fixed)) {
-        problem.SetParameterBlockConstant(nodes[i].p);
-        problem.SetParameterBlockConstant(nodes[i].q);
-      }
     }
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
@@ -153,14 +197,98 @@ struct PoseGraph::Impl {
     ceres::Solver::Summary summary;
     ceres::Solve(options, &problem, &summary);
     s.iterations = static_cast<int>(summary.iterations.size());
-    s.cost_after = cost();
+    s.cost_after = touched_cost();
     s.milliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return s;
   }
 
-  // Drops the loop with the largest whitened residual while it is above the limit.
-  void drop_disagreeing_loops(GraphSolve& s) {
+  GraphSolve solve_whole() {
+    GraphSolve s = solve(nullptr);
+    s.whole_graph = true;
+    s.moved_nodes = nodes.size();
+    changed.clear();
+    approximate = false;
+    return s;
+  }
+
+  // The nodes within the fewest edges of `changed`, whole layers of a breadth-first search
+  // until there are at least `count`.
+  std::vector<char> window(std::size_t count, std::size_t& size) const {
+    std::vector<char> inside(nodes.size(), 0);
+    std::vector<int> layer, next;
+    for (const int n : changed) {
+      if (!inside[std::size_t(n)]) inside[std::size_t(n)] = 1, layer.push_back(n);
+    }
+    size = layer.size();
+    while (size < count && !layer.empty()) {
+      next.clear();
+      for (const int n : layer) {
+        for (const int id : node_edges[std::size_t(n)]) {
+          const Edge& e = edges[std::size_t(id)];
+          const int other = e.a == n ? e.b : e.a;
+          if (e.active && !inside[std::size_t(other)]) {
+            inside[std::size_t(other)] = 1;
+            next.push_back(other);
+          }
+        }
+      }
+      size += next.size();
+      layer.swap(next);
+    }
+    return inside;
+  }
+
+  // Solves around `changed` (see PoseGraphConfig::window_nodes). The costs are those of the
+  // edges the largest window touched.
+  GraphSolve solve_changed() {
+    if (changed.empty()) return {};
+    if (!config.incremental) return solve_whole();
+    GraphSolve total;
+    double earlier_change = 0;  // cost change of the smaller windows, all inside the larger
+    for (std::size_t count = std::size_t(config.window_nodes);; count *= 4) {
+      std::size_t size = 0;
+      std::vector<char> inside;
+      if (2 * count < nodes.size()) inside = window(count, size);
+      if (inside.empty() || 2 * size >= nodes.size()) {
+        const GraphSolve s = solve_whole();
+        total.iterations += s.iterations;
+        total.milliseconds += s.milliseconds;
+        total.cost_before = s.cost_before - earlier_change;
+        total.cost_after = s.cost_after;
+        total.moved_nodes = s.moved_nodes;
+        total.whole_graph = true;
+        break;
+      }
+      std::vector<std::pair<const Edge*, Eigen::Matrix<double, 6, 1>>> border;
+      for (const Edge& e : edges) {
+        if (e.active && inside[std::size_t(e.a)] != inside[std::size_t(e.b)]) {
+          border.emplace_back(&e, residual(e));
+        }
+      }
+      const GraphSolve s = solve(&inside);
+      total.iterations += s.iterations;
+      total.milliseconds += s.milliseconds;
+      total.cost_before = s.cost_before - earlier_change;
+      total.cost_after = s.cost_after;
+      total.moved_nodes = size;
+      earlier_change += s.cost_after - s.cost_before;
+      double strain = 0;
+      for (const auto& [e, before] : border)
+        strain = std::max(strain, (residual(*e) - before).norm());
+      if (strain <= config.max_border_strain) {
+        approximate = true;
+        changed.clear();
+        break;
+      }
+    }
+    total.ran = true;
+    return total;
+  }
+
+  // Drops the loop with the largest whitened residual while it is above the limit, solving
+  // again after each (around the dropped loop when `local`).
+  void drop_disagreeing_loops(GraphSolve& s, bool local) {
     for (;;) {
       Edge* worst = nullptr;
       double worst_r = config.max_loop_residual;
@@ -172,10 +300,14 @@ struct PoseGraph::Impl {
       if (!worst) return;
       worst->active = false;
       ++s.loops_dropped;
-      const GraphSolve again = solve();
+      changed.push_back(worst->a);
+      changed.push_back(worst->b);
+      const GraphSolve again = local ? solve_changed() : solve_whole();
       s.iterations += again.iterations;
       s.milliseconds += again.milliseconds;
-      s.cost_after = again.cost_after;
+      s.moved_nodes = std::max(s.moved_nodes, again.moved_nodes);
+      s.whole_graph = s.whole_graph || again.whole_graph;
+      if (!local) s.cost_after = again.cost_after;
     }
   }
 
@@ -220,9 +352,10 @@ void validate(const PoseGraphConfig& c) {
       !positive(c.odometry_rotation_deg_per_m) || !positive(c.odometry_rotation_min_deg) ||
       !positive(c.loop_translation_m) || !positive(c.loop_rotation_deg) ||
       !positive(c.max_loop_cost) || !positive(c.max_loop_residual) || c.max_iterations < 1 ||
-      c.max_iterations > 10000) {
+      c.max_iterations > 10000 || c.window_nodes < 1 || !positive(c.max_border_strain)) {
     throw std::invalid_argument(
-        "pose graph config: sigmas and limits must be finite and > 0, max_iterations in [1, 10000]");
+        "pose graph config: sigmas and limits must be finite and > 0, max_iterations in "
+        "[1, 10000], window_nodes >= 1");
   }
 }
 
@@ -236,31 +369,30 @@ PoseGraph& PoseGraph::operator=(PoseGraph&&) noexcept = default;
 
 int PoseGraph::add_node(const Eigen::Isometry3d& initial, const Eigen::Isometry3d* odometry) {
   if (!initial.matrix().allFinite()) throw std::invalid_argument("pose graph: non-finite pose");
-  const int id = static_cast<int>(impl_->nodes.size());
   const int previous = impl_->last_movable;
+  int id;
   if (odometry && previous >= 0) {
     // The new node continues the previous one's current estimate, so its edge starts at rest.
-    impl_->nodes.push_back(to_node(to_pose(impl_->nodes[std::size_t(previous)]) * (*odometry)));
+    id =
+        impl_->add_node(to_node(to_pose(impl_->nodes[std::size_t(previous)]) * (*odometry)), false);
     const PoseGraphConfig& c = impl_->config;
     const double d = odometry->translation().norm();
-    impl_->edges.push_back(impl_->make_edge(
-        previous, id, *odometry, std::max(c.odometry_translation_min_m, c.odometry_translation_per_m * d),
+    impl_->add_edge(impl_->make_edge(
+        previous, id, *odometry,
+        std::max(c.odometry_translation_min_m, c.odometry_translation_per_m * d),
         kDeg * std::max(c.odometry_rotation_min_deg, c.odometry_rotation_deg_per_m * d), false));
   } else {
-    impl_->nodes.push_back(to_node(initial));
+    id = impl_->add_node(to_node(initial), false);
     impl_->run_starts.push_back(id);
   }
-  impl_->fixed.push_back(0);
   impl_->last_movable = id;
   return id;
 }
 
 int PoseGraph::add_fixed_node(const Eigen::Isometry3d& T_world_cam) {
   if (!T_world_cam.matrix().allFinite()) throw std::invalid_argument("pose graph: non-finite pose");
-  impl_->nodes.push_back(to_node(T_world_cam));
-  impl_->fixed.push_back(1);
   impl_->has_fixed = true;
-  return static_cast<int>(impl_->nodes.size() - 1);
+  return impl_->add_node(to_node(T_world_cam), true);
 }
 
 void PoseGraph::transform(const Eigen::Isometry3d& T_new_old) {
@@ -278,8 +410,7 @@ Edge PoseGraph::Impl::loop_edge(int a, int b, const Eigen::Isometry3d& T_a_b,
 
 int PoseGraph::add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b,
                                  const Covariance6* covariance) {
-  impl_->edges.push_back(impl_->loop_edge(a, b, T_a_b, covariance));
-  return static_cast<int>(impl_->edges.size() - 1);
+  return impl_->add_edge(impl_->loop_edge(a, b, T_a_b, covariance));
 }
 
 double PoseGraph::loop_residual(int a, int b, const Eigen::Isometry3d& T_a_b,
@@ -294,24 +425,38 @@ bool PoseGraph::loop_active(int loop_id) const {
 }
 
 GraphSolve PoseGraph::optimise() {
-  GraphSolve s = impl_->solve();
-  impl_->drop_disagreeing_loops(s);
+  GraphSolve s = impl_->solve_whole();
+  impl_->drop_disagreeing_loops(s, false);
   return s;
 }
+
+GraphSolve PoseGraph::update() {
+  GraphSolve s = impl_->solve_changed();
+  if (s.ran) impl_->drop_disagreeing_loops(s, true);
+  return s;
+}
+
+bool PoseGraph::approximate() const { return impl_->approximate; }
 
 bool PoseGraph::add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve,
                          int* loop_id, const Covariance6* covariance) {
   const std::vector<Node> before = impl_->nodes;
-  const double cost_before = impl_->cost();
+  const std::vector<int> changed_before = impl_->changed;
+  const bool approximate_before = impl_->approximate;
   const int id = add_loop_unsolved(a, b, T_a_b, covariance);
   if (loop_id) *loop_id = id;
-  GraphSolve s = impl_->solve();
-  bool kept = s.cost_after - cost_before <= impl_->config.max_loop_cost;
+  const double loop_cost = 0.5 * impl_->edge_cost(impl_->edges.back());
+  GraphSolve s = impl_->solve_changed();
+  // The solve's costs include the new loop at the start: without it, the graph cost
+  // before.
+  bool kept = s.cost_after - (s.cost_before - loop_cost) <= impl_->config.max_loop_cost;
   if (!kept) {
     impl_->edges.back().active = false;  // kept inactive, so that ids stay valid
     impl_->nodes = before;
+    impl_->changed = changed_before;
+    impl_->approximate = approximate_before;
   } else {
-    impl_->drop_disagreeing_loops(s);
+    impl_->drop_disagreeing_loops(s, true);
     kept = impl_->edges.back().active;
   }
   if (solve) *solve = s;

@@ -4,6 +4,10 @@
 // A loop is kept only when the graph agrees with it: adding it may raise the optimised cost by
 // at most `max_loop_cost` (whitened units, ~chi-square with 6 dof), and after every solve the
 // loop with the largest whitened residual is dropped while it exceeds `max_loop_residual`.
+// Online solves are local: only the nodes within a few edges of what changed move, the rest
+// hold still; the window grows until the edges across its border carry no new strain, so a
+// revisit of a corrected map costs milliseconds at any graph size while the first loop after a
+// long drift still spreads over the whole lap.
 #include <memory>
 #include <vector>
 
@@ -26,6 +30,12 @@ struct PoseGraphConfig {
   double max_loop_cost = 40.0;       // chi-square(6) at ~1e-6
   double max_loop_residual = 6.0;    // whitened norm of one loop's residual
   int max_iterations = 200;
+  // Local solves (add_loop, update): the first window holds at least this many nodes nearest
+  // (in edges) to what changed; it grows 4x while an edge across its border changed its
+  // whitened residual by more than `max_border_strain`, and becomes the whole graph at half of it.
+  bool incremental = true;
+  int window_nodes = 300;
+  double max_border_strain = 0.03;
 };
 
 void validate(const PoseGraphConfig& config);
@@ -33,9 +43,13 @@ void validate(const PoseGraphConfig& config);
 struct GraphSolve {
   bool ran = false;
   int iterations = 0;
-  double cost_before = 0, cost_after = 0;  // 0.5 * sum of squared whitened residuals
+  // 0.5 * sum of squared whitened residuals of the edges the solve could change (every edge
+  // when it was over the whole graph).
+  double cost_before = 0, cost_after = 0;
   double milliseconds = 0;
   int loops_dropped = 0;  // by the residual test during this solve
+  std::size_t moved_nodes = 0;  // nodes the last solve of this call could move
+  bool whole_graph = false;     // that solve was over every node
 };
 
 class PoseGraph {
@@ -58,9 +72,9 @@ class PoseGraph {
   // joins a saved map at its first loop).
   void transform(const Eigen::Isometry3d& T_new_old);
 
-  // Proposes a loop T_a_b between nodes a and b, solves, and keeps the loop if the graph
-  // agrees (see the header comment); the poses are those of the solve either way.
-  // Returns true when the loop was kept.
+  // Proposes a loop T_a_b between nodes a and b, solves (locally, see update()), and keeps
+  // the loop if the graph agrees (see the header comment); the poses are those of the solve
+  // either way.
   // Returns true when the loop was kept; `loop_id` (optional) receives its id.
   // `covariance`: what the loop's alignment measured (nullptr: the config's loop sigmas).
   bool add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve = nullptr,
@@ -75,7 +89,13 @@ class PoseGraph {
                         const Covariance6* covariance = nullptr);
   // False once a solve dropped the loop (or the cost gate refused it).
   bool loop_active(int loop_id) const;
+  // Solves the whole graph.
   GraphSolve optimise();
+  // Solves around what changed since the last solve (new nodes and loops); the whole graph
+  // when `incremental` is off. Does nothing when nothing changed.
+  GraphSolve update();
+  // True when a local solve ran since the last whole-graph one.
+  bool approximate() const;
 
   std::size_t size() const;
   Eigen::Isometry3d pose(int node) const;  // current estimate, camera-to-world

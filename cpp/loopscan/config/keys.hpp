@@ -299,6 +299,13 @@ void visit_closure(V& v, Configuration& c) {
     v.key("max_loop_residual", g.max_loop_residual, above(0, 1e12),
           "loops whose whitened residual exceeds this are dropped");
     v.key("max_iterations", g.max_iterations, closed(1, 10000), "per solve");
+    v.key("incremental", g.incremental,
+          "online solves move only the nodes near what changed (false: the whole graph)");
+    v.key("window_nodes", g.window_nodes, closed(1, 100000000),
+          "the first window of a local solve (nodes nearest to what changed)");
+    v.key("max_border_strain", g.max_border_strain, above(0, 1e6),
+          "the window grows 4x while an edge across its border changed its whitened residual by "
+          "more");
   });
 }
 
