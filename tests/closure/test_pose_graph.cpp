@@ -206,14 +206,36 @@ TEST(PoseGraph, ALoopPullsOnlyAlongTheDirectionsItMeasured) {
                std::invalid_argument);
 }
 
-// Local solves with a window far smaller than the graph (30 of 400 nodes) against the whole
-// graph solved after every loop: the same loops kept, the same poses within 5 cm.
-TEST(PoseGraph, LocalSolvesFollowTheWholeGraph) {
+// A graph whose odometry is already solved (nothing pending), with 30-node windows.
+struct LocalAndWhole {
+  Built local, whole;
+};
+
+LocalAndWhole local_and_whole(unsigned seed, double max_border_strain) {
   closure::PoseGraphConfig local = precise_loops(), whole = precise_loops();
   local.window_nodes = 30;
-  local.max_border_strain = 0.05;  // (at 0.02 this small graph is solved whole each time)
+  local.max_border_strain = max_border_strain;
   whole.incremental = false;
-  Built a = build(11, local), b = build(11, whole);
+  LocalAndWhole g{build(seed, local), build(seed, whole)};
+  g.local.graph.optimise();
+  g.whole.graph.optimise();
+  return g;
+}
+
+double largest_difference(const closure::PoseGraph& a, const closure::PoseGraph& b) {
+  double worst = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    worst = std::max(worst, (a.position(int(i)) - b.position(int(i))).norm());
+  }
+  return worst;
+}
+
+// Local solves with a window far smaller than the graph (30 of 400 nodes) against the whole
+// graph solved after every loop: the same loops kept, nearly the same accuracy, and after one
+// whole solve the same poses.
+TEST(PoseGraph, LocalSolvesFollowTheWholeGraph) {
+  // (at the default 0.03 this small graph is solved whole after nearly every loop)
+  auto [a, b] = local_and_whole(11, 0.05);
   std::mt19937 rng(12);
   std::normal_distribution<double> n(0, 1);
   int local_solves = 0;
@@ -231,50 +253,82 @@ TEST(PoseGraph, LocalSolvesFollowTheWholeGraph) {
     }
   }
   EXPECT_GT(local_solves, 10);  // a good part of the loops were solved locally
-  double worst = 0;
-  for (std::size_t i = 0; i < a.graph.size(); ++i) {
-    worst = std::max(worst, (a.graph.position(int(i)) - b.graph.position(int(i))).norm());
-  }
-  EXPECT_LT(worst, 0.05);
   EXPECT_EQ(a.graph.loop_count(), b.graph.loop_count());
+  // Between whole solves the estimate is an approximation (here up to 0.5 m off the whole
+  // graph's at the far end, 0.10 against 0.09 m ATE); one whole solve makes it exact.
+  EXPECT_LT(eval::ate_rmse(a.gt, estimate(a.graph)),
+            1.25 * eval::ate_rmse(b.gt, estimate(b.graph)));
   a.graph.optimise();
   EXPECT_FALSE(a.graph.approximate());
+  EXPECT_LT(largest_difference(a.graph, b.graph), 0.01);  // (Ceres stops within millimetres)
 }
 
-// The first loop after a long drift pulls the whole lap: its window grows to the whole graph
-// and the result is the whole graph's.
+// The first loop after a long drift pulls the whole lap: its window (seeded by the loop's ends
+// only) grows to the whole graph and the result is the whole graph's.
 TEST(PoseGraph, TheFirstLoopAfterALongDriftGrowsItsWindowToTheWholeGraph) {
-  closure::PoseGraphConfig local = precise_loops(), whole = precise_loops();
-  local.window_nodes = 30;
-  whole.incremental = false;
-  Built a = build(13, local), b = build(13, whole);
+  auto [a, b] = local_and_whole(13, closure::PoseGraphConfig{}.max_border_strain);
   const Eigen::Isometry3d T = a.gt[300].inverse() * a.gt[100];
   closure::GraphSolve s;
   EXPECT_TRUE(a.graph.add_loop(300, 100, T, &s));
   EXPECT_TRUE(b.graph.add_loop(300, 100, T));
   EXPECT_TRUE(s.whole_graph);
   EXPECT_EQ(s.moved_nodes, a.graph.size());
+  EXPECT_GT(s.iterations, 0);
   EXPECT_FALSE(a.graph.approximate());
-  for (int i : {0, 150, 250, 399}) {
-    EXPECT_LT((a.graph.position(i) - b.graph.position(i)).norm(), 1e-6) << i;
-  }
+  EXPECT_LT(largest_difference(a.graph, b.graph), 1e-4);  // (Ceres' tolerances)
 }
 
-// update() solves around new keyframes and loops only; with nothing new it does nothing.
+// update() solves around new keyframes and loops only: a loop 10 cm off the estimate moves
+// the nodes near it, not those 100 edges away; with nothing new it does nothing.
 TEST(PoseGraph, UpdateSolvesOnlyWhatChanged) {
-  closure::PoseGraphConfig local = precise_loops();
-  local.window_nodes = 30;
-  Built a = build(15, local);
+  auto [a, unused] = local_and_whole(15, closure::PoseGraphConfig{}.max_border_strain);
   a.graph.add_loop_unsolved(300, 100, a.gt[300].inverse() * a.gt[100]);
   EXPECT_TRUE(a.graph.update().ran);
   EXPECT_FALSE(a.graph.update().ran);
-  const Eigen::Vector3d before = a.graph.position(200);
-  a.graph.add_loop_unsolved(305, 105, a.graph.pose(305).inverse() * a.graph.pose(105));
+  const Eigen::Vector3d far = a.graph.position(200), near = a.graph.position(305);
+  Eigen::Isometry3d T = a.graph.pose(305).inverse() * a.graph.pose(105);
+  T.translation().x() += 0.1;
+  a.graph.add_loop_unsolved(305, 105, T);
   const closure::GraphSolve s = a.graph.update();
   EXPECT_TRUE(s.ran);
-  EXPECT_FALSE(s.whole_graph);  // a loop the estimate already agrees with stays local
+  EXPECT_FALSE(s.whole_graph);
   EXPECT_LT(s.moved_nodes, a.graph.size());
-  EXPECT_LT((a.graph.position(200) - before).norm(), 1e-12);  // far away: untouched
+  EXPECT_GT((a.graph.position(305) - near).norm(), 0.01);
+  EXPECT_EQ(a.graph.position(200), far);  // outside the window: not touched at all
+}
+
+// A loop the cost gate refuses after a local solve leaves the graph exactly as it was,
+// pending work included; a wrong loop among true ones is dropped by a local re-solve.
+TEST(PoseGraph, LocalSolvesRefuseAndDropWrongLoops) {
+  auto [a, b] = local_and_whole(17, 0.05);
+  for (int q = 200; q < 300; q += 5) {
+    a.graph.add_loop(q, q - 200, a.gt[q].inverse() * a.gt[q - 200]);
+    b.graph.add_loop(q, q - 200, b.gt[q].inverse() * b.gt[q - 200]);
+  }
+  std::vector<Eigen::Isometry3d> poses;
+  for (std::size_t i = 0; i < a.graph.size(); ++i) poses.push_back(a.graph.pose(int(i)));
+  const bool approximate = a.graph.approximate();
+  Eigen::Isometry3d far_off = a.graph.pose(300).inverse() * a.graph.pose(150);
+  far_off.translation() += Eigen::Vector3d(30, 0, 0);
+  closure::GraphSolve s;
+  EXPECT_FALSE(a.graph.add_loop(300, 150, far_off, &s));
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    EXPECT_EQ(a.graph.pose(int(i)).matrix(), poses[i].matrix()) << i;
+  }
+  EXPECT_EQ(a.graph.approximate(), approximate);
+  EXPECT_FALSE(a.graph.update().ran);  // the refused loop left nothing to solve
+  // A wrong loop 2 m off, added unsolved with true ones: update() drops it.
+  Eigen::Isometry3d wrong = a.gt[310].inverse() * a.gt[110];
+  wrong.translation() += Eigen::Vector3d(2, 0, 0);
+  const int id = a.graph.add_loop_unsolved(310, 110, wrong);
+  for (int q = 300; q < 400; q += 5) {
+    a.graph.add_loop_unsolved(q, q - 200, a.gt[q].inverse() * a.gt[q - 200]);
+    b.graph.add_loop(q, q - 200, b.gt[q].inverse() * b.gt[q - 200]);
+  }
+  const closure::GraphSolve dropped = a.graph.update();
+  EXPECT_GE(dropped.loops_dropped, 1);
+  EXPECT_FALSE(a.graph.loop_active(id));
+  EXPECT_LT(largest_difference(a.graph, b.graph), 0.1);
 }
 
 }  // namespace

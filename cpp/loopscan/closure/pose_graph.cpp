@@ -133,6 +133,9 @@ struct PoseGraph::Impl {
     return 0.5 * c;
   }
 
+  // Nodes no solve moves: a saved map's places, and the first node when there is no map.
+  bool held(std::size_t i) const { return fixed[i] || (i == 0 && !has_fixed); }
+
   // Solves for the nodes marked in `inside` (nullptr: every node); the other ends of edges
   // leaving the window hold still. Costs are of the edges the solve can change.
   GraphSolve solve(const std::vector<char>* inside) {
@@ -154,7 +157,6 @@ struct PoseGraph::Impl {
     po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(po);
     ceres::EigenQuaternionManifold quaternion;
-    const auto held = [&](std::size_t i) { return fixed[i] || (i == 0 && !has_fixed); };
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       if (!moves(int(i))) continue;
       Node& n = nodes[i];
@@ -224,6 +226,7 @@ struct PoseGraph::Impl {
     while (size < count && !layer.empty()) {
       next.clear();
       for (const int n : layer) {
+        if (held(std::size_t(n))) continue;  // nodes joined only through it do not interact
         for (const int id : node_edges[std::size_t(n)]) {
           const Edge& e = edges[std::size_t(id)];
           const int other = e.a == n ? e.b : e.a;
@@ -245,20 +248,26 @@ struct PoseGraph::Impl {
     if (changed.empty()) return {};
     if (!config.incremental) return solve_whole();
     GraphSolve total;
+    total.ran = true;
     double earlier_change = 0;  // cost change of the smaller windows, all inside the larger
-    for (std::size_t count = std::size_t(config.window_nodes);; count *= 4) {
+    const auto add = [&](const GraphSolve& s, std::size_t moved) {
+      total.iterations += s.iterations;
+      total.milliseconds += s.milliseconds;
+      total.cost_before = s.cost_before - earlier_change;
+      total.cost_after = s.cost_after;
+      total.moved_nodes = moved;
+      earlier_change += s.cost_after - s.cost_before;
+    };
+    // Each window holds at least 4x the nodes of the one before, so a grown window is never
+    // the same set solved again.
+    for (std::size_t count = std::size_t(config.window_nodes);;) {
       std::size_t size = 0;
       std::vector<char> inside;
       if (2 * count < nodes.size()) inside = window(count, size);
       if (inside.empty() || 2 * size >= nodes.size()) {
-        const GraphSolve s = solve_whole();
-        total.iterations += s.iterations;
-        total.milliseconds += s.milliseconds;
-        total.cost_before = s.cost_before - earlier_change;
-        total.cost_after = s.cost_after;
-        total.moved_nodes = s.moved_nodes;
+        add(solve_whole(), nodes.size());
         total.whole_graph = true;
-        break;
+        return total;
       }
       std::vector<std::pair<const Edge*, Eigen::Matrix<double, 6, 1>>> border;
       for (const Edge& e : edges) {
@@ -266,24 +275,18 @@ struct PoseGraph::Impl {
           border.emplace_back(&e, residual(e));
         }
       }
-      const GraphSolve s = solve(&inside);
-      total.iterations += s.iterations;
-      total.milliseconds += s.milliseconds;
-      total.cost_before = s.cost_before - earlier_change;
-      total.cost_after = s.cost_after;
-      total.moved_nodes = size;
-      earlier_change += s.cost_after - s.cost_before;
+      add(solve(&inside), size);
       double strain = 0;
-      for (const auto& [e, before] : border)
+      for (const auto& [e, before] : border) {
         strain = std::max(strain, (residual(*e) - before).norm());
+      }
       if (strain <= config.max_border_strain) {
         approximate = true;
         changed.clear();
-        break;
+        return total;
       }
+      count = 4 * std::max(count, size);
     }
-    total.ran = true;
-    return total;
   }
 
   // Drops the loop with the largest whitened residual while it is above the limit, solving
@@ -307,7 +310,6 @@ struct PoseGraph::Impl {
       s.milliseconds += again.milliseconds;
       s.moved_nodes = std::max(s.moved_nodes, again.moved_nodes);
       s.whole_graph = s.whole_graph || again.whole_graph;
-      if (!local) s.cost_after = again.cost_after;
     }
   }
 

@@ -44,12 +44,12 @@ struct GraphSolve {
   bool ran = false;
   int iterations = 0;
   // 0.5 * sum of squared whitened residuals of the edges the solve could change (every edge
-  // when it was over the whole graph).
+  // when it was over the whole graph), before any loop was dropped and solved without.
   double cost_before = 0, cost_after = 0;
   double milliseconds = 0;
   int loops_dropped = 0;  // by the residual test during this solve
-  std::size_t moved_nodes = 0;  // nodes the last solve of this call could move
-  bool whole_graph = false;     // that solve was over every node
+  std::size_t moved_nodes = 0;  // the largest window of this call (nodes, held ones included)
+  bool whole_graph = false;     // a solve of this call was over every node
 };
 
 class PoseGraph {
