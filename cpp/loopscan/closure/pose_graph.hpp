@@ -73,8 +73,8 @@ class PoseGraph {
   void transform(const Eigen::Isometry3d& T_new_old);
 
   // Proposes a loop T_a_b between nodes a and b, solves (locally, see update()), and keeps
-  // the loop if the graph agrees (see the header comment); the poses are those of the solve
-  // either way.
+  // the loop if the graph agrees (see the header comment); a refused loop leaves the graph as
+  // it was, pending nodes and loops included.
   // Returns true when the loop was kept; `loop_id` (optional) receives its id.
   // `covariance`: what the loop's alignment measured (nullptr: the config's loop sigmas).
   bool add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve = nullptr,
