@@ -7,58 +7,21 @@
 #include <cmath>
 #include <set>
 
-#include "loopscan/closure/loop_closer.hpp"
-#include "loopscan/core/keyframe_stream.hpp"
-#include "loopscan/eval/loop_metrics.hpp"
-#include "loopscan/sim/trajectory.hpp"
-#include "loopscan/sim/vo_simulator.hpp"
-#include "loopscan/sim/world.hpp"
+#include "closure/drives.hpp"
 
 namespace loopscan {
 namespace {
 
-struct Drive {
-  sim::Trajectory route;
-  sim::VoOutput vo;
-};
-
-// A built-in route (default: the short one, a block and its first street again) with a
-// drifting VO (default 1 %), driven `laps` times (the world built along one lap and the way
-// back to its start).
-Drive drive(sim::Season season, unsigned session, const std::string& route = "short",
-            double drift_per_m = 0.02, int laps = 1) {
-  const sim::Trajectory one_lap = sim::make_builtin_trajectory(route);
-  Drive d{sim::drive_laps(one_lap, laps), {}};
-  sim::WorldConfig wc;
-  wc.seed = 1;
-  const sim::World world = sim::World::build(sim::lap_streets(one_lap, laps), wc);
-  sim::Conditions conditions = sim::Conditions::for_season(season);
-  conditions.session_seed = session;
-  sim::VoSimConfig vo;
-  vo.seed = conditions.noise_seed(wc.seed);
-  vo.drift_translation_per_m = drift_per_m;
-  vo.drift_rotation_deg_per_m = 3 * drift_per_m;
-  d.vo = sim::simulate_vo(d.route, sim::select_keyframes(d.route), world, conditions,
-                          sim::StereoCamera{}, vo);
-  return d;
-}
+using test::centres;
+using test::close_drive;
+using test::Closed;
+using test::Drive;
+using test::drive;
+using test::stream;
 
 const Drive& summer() {
   static const Drive d = drive(sim::Season::Summer, 1);
   return d;
-}
-
-template <typename PerKeyframe>
-void stream(const Drive& d, PerKeyframe&& f) {
-  for_each_keyframe(d.vo.poses, d.vo.points, f);
-}
-
-std::vector<Eigen::Vector3d> centres(const std::vector<KeyframePose>& poses) {
-  std::vector<Eigen::Vector3d> out;
-  for (const KeyframePose& k : poses) {
-    out.push_back(-k.T_cam_world.leftCols<3>().transpose() * k.T_cam_world.col(3));
-  }
-  return out;
 }
 
 TEST(LoopCloser, ClosesADriftedBlockWithTrueLoopsOnly) {
@@ -94,59 +57,6 @@ TEST(LoopCloser, ClosesADriftedBlockWithTrueLoopsOnly) {
   EXPECT_GT(times.linked, 0);
   EXPECT_EQ(closer.database().size(), std::size_t(times.described - times.linked));
   EXPECT_EQ(closer.place_clouds().size(), closer.database().size());
-}
-
-struct Closed {
-  double ate_before = 0, ate_after = 0;
-  int revisits = 0, closed = 0, false_loops = 0;
-  std::size_t map_places = 0;
-  std::vector<int> joined;       // keyframes whose place joined the map
-  std::string false_list;        // query -> match (source, metres apart)
-  std::vector<double> whitened;  // per accepted loop: |translation error| in its covariance
-};
-
-// Runs the closer over a drive and scores it against the ground truth (a revisit: a keyframe
-// within 10 m of one 100 or more keyframes earlier).
-Closed close_drive(const Drive& d, const closure::LoopCloserConfig& config) {
-  closure::LoopCloser closer(config);
-  Closed out;
-  stream(d, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
-    const closure::KeyframeClosure c = closer.add_keyframe(k, p, n);
-    if (c.described && c.linked_place < 0) out.joined.push_back(k.id);
-  });
-  closer.finish();
-  out.map_places = closer.database().size();
-  std::vector<Eigen::Vector3d> gt;
-  for (const KeyframePose& k : d.vo.poses)
-    gt.push_back(d.route.T_world_cam[std::size_t(k.id)].translation());
-  out.ate_before = eval::aligned_rmse(gt, centres(d.vo.poses));
-  out.ate_after = eval::aligned_rmse(gt, centres(closer.corrected_poses()));
-  std::set<int> closed_queries;
-  for (const closure::Loop& l : closer.loops()) {
-    if (!l.accepted()) continue;
-    const Eigen::Isometry3d& q = d.route.T_world_cam[std::size_t(l.query)];
-    const Eigen::Isometry3d& m = d.route.T_world_cam[std::size_t(l.match.keyframe)];
-    const eval::LoopTruth t = eval::loop_truth(l.T_query_match, q, m);
-    if (!t.is_true) {
-      ++out.false_loops;
-      out.false_list += std::to_string(l.query) + " -> " + std::to_string(l.match.keyframe) +
-                        (l.nearby ? " (nearby, " : " (descriptor, ") +
-                        std::to_string(t.gt_distance_m) + " m) ";
-      continue;
-    }
-    closed_queries.insert(l.query);
-    const Eigen::Vector3d error = l.T_query_match.translation() - (q.inverse() * m).translation();
-    const Eigen::Matrix3d cov =
-        closure::loop_covariance(l, config.loop_uncertainty).topLeftCorner<3, 3>();
-    out.whitened.push_back(std::sqrt(error.dot(cov.ldlt().solve(error))));
-  }
-  for (std::size_t i = 0; i < d.vo.poses.size(); ++i) {
-    bool revisit = false;
-    for (std::size_t j = 0; j + 100 <= i && !revisit; ++j) revisit = (gt[i] - gt[j]).norm() <= 10.0;
-    out.revisits += revisit;
-    out.closed += revisit && closed_queries.count(d.vo.poses[i].id);
-  }
-  return out;
 }
 
 // The reverse route drives half a street again the other way round, one lane over: the
@@ -194,10 +104,12 @@ TEST(LoopCloser, NeverWorseOnANearlyDriftFreeDrive) {
 }
 
 // The same block driven three times: the later laps link to the places the earlier ones left
-// instead of copying them, and close as many revisits as a map of every copy would.
+// instead of copying them (their graph nodes merge into the places'), and close as many
+// revisits, as accurately, as a map and graph of every copy would.
 TEST(LoopCloser, LapsLinkToTheMapInsteadOfGrowingIt) {
   const Drive three = drive(sim::Season::Summer, 1, "short", 0.02, 3);
   closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  config.lifelong.merge_after_keyframes = 50;  // (laps of about 180 keyframes)
   const Closed lifelong = close_drive(three, config);
   config.lifelong.enabled = false;
   const Closed copies = close_drive(three, config);
@@ -217,6 +129,11 @@ TEST(LoopCloser, LapsLinkToTheMapInsteadOfGrowingIt) {
   EXPECT_GT(joined_in_third_lap(copies), 0.9 * third_lap_keyframes);
   EXPECT_LT(joined_in_third_lap(lifelong), 0.25 * third_lap_keyframes);
   EXPECT_LT(lifelong.map_places, 0.6 * copies.map_places);
+  // Linked keyframes' nodes merged into their places' (but the last 50 keyframes'): the pose
+  // graph shrinks with the map.
+  EXPECT_EQ(copies.graph_nodes, three.vo.poses.size());
+  EXPECT_LT(lifelong.graph_nodes, 0.6 * copies.graph_nodes);
+  EXPECT_LT(lifelong.graph_edges, 0.6 * copies.graph_edges);
   EXPECT_GE(lifelong.closed, 0.95 * copies.closed)
       << lifelong.closed << " of " << lifelong.revisits;
   EXPECT_LE(lifelong.ate_after, 1.1 * copies.ate_after + 0.05)

@@ -333,3 +333,87 @@ TEST(PoseGraph, LocalSolvesRefuseAndDropWrongLoops) {
 
 }  // namespace
 }  // namespace loopscan
+
+namespace loopscan {
+namespace {
+
+Eigen::Isometry3d pose_of(const Eigen::Vector3d& t, double yaw_deg, double pitch_deg = 0) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(pitch_deg * M_PI / 180, Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
+
+// Node 2 is tied to node 0 by a near-exact loop, so 0 -> 1 -> 2 is a second measurement of
+// T_0_1: merging node 2 into node 0 turns its odometry edge into one (composed with the loop,
+// inverted, fused with the first), and the merged graph's solve must give node 1 where the
+// whole graph put it. Anisotropic odometry and a lever arm make every Jacobian count.
+TEST(PoseGraph, MergingANodeKeepsWhatItsEdgesMeasured) {
+  closure::PoseGraphConfig c;
+  c.odometry_translation_per_m = 0.05;
+  closure::PoseGraph g(c);
+  const Eigen::Isometry3d T_0_1 = pose_of({1.0, 0.1, 4.0}, 20, 3);
+  const Eigen::Isometry3d T_0_2 = pose_of({-2.0, 0.3, 1.5}, -35, -2);
+  g.add_node(Eigen::Isometry3d::Identity());
+  g.add_node(T_0_1, &T_0_1);
+  // The second route to node 1 disagrees by 8 cm and 1.5 degrees.
+  const Eigen::Isometry3d T_1_2 = (T_0_1 * pose_of({0.08, -0.02, 0.03}, 1.5)).inverse() * T_0_2;
+  g.add_node(T_0_2, &T_1_2);
+  closure::Covariance6 exact = closure::Covariance6::Identity() * 1e-10;
+  int loop = -1;
+  ASSERT_TRUE(g.add_loop(2, 0, T_0_2.inverse(), nullptr, &loop, &exact));
+  g.optimise();
+  const Eigen::Isometry3d whole_1 = g.pose(1), whole_2 = g.pose(2);
+  // The optimum lies between the two measurements of node 1 (the test measures something).
+  ASSERT_GT((whole_1.translation() - T_0_1.translation()).norm(), 0.01);
+  EXPECT_THROW(g.merge(2, loop), std::invalid_argument);  // odometry continues from node 2
+  g.add_node(whole_2 * T_0_1, &T_0_1);                    // (it no longer does)
+  EXPECT_THROW(g.merge(1, loop), std::invalid_argument);  // not a loop of node 1
+  ASSERT_TRUE(g.merge(2, loop));
+  EXPECT_TRUE(g.merged(2));
+  EXPECT_TRUE(g.loop_active(loop));
+  EXPECT_EQ(g.loop_count(), 1u);
+  EXPECT_EQ(g.solved_nodes(), 3u);
+  EXPECT_EQ(g.solved_edges(), 2u);  // 0 -> 1 (both measurements), 0 -> 3 (2 -> 3 moved)
+  EXPECT_LT((g.pose(2).translation() - whole_2.translation()).norm(), 1e-12);
+  EXPECT_THROW(g.add_loop(2, 1, Eigen::Isometry3d::Identity()), std::invalid_argument);
+  EXPECT_THROW(g.merge(2, loop), std::invalid_argument);
+  g.optimise();
+  // Equal up to second-order terms (0.2 mm here); a wrong sign in one Jacobian costs 3-5 cm.
+  EXPECT_LT((g.pose(1).translation() - whole_1.translation()).norm(), 1e-3);
+  EXPECT_LT(Eigen::AngleAxisd(g.pose(1).rotation().transpose() * whole_1.rotation()).angle(), 1e-4);
+  EXPECT_LT((g.pose(3).translation() - (whole_2 * T_0_1).translation()).norm(), 1e-3);
+}
+
+// Two laps of a block, every second-lap keyframe looped to the first lap's: merging the second
+// lap leaves the solves the first lap's nodes and edges (plus the newest node), with the
+// trajectory as accurate as the graph of every node.
+TEST(PoseGraph, MergedLapsLeaveTheGraphTheSizeOfTheArea) {
+  Built merged = build(21), every = build(21);
+  std::mt19937 rng(22);
+  std::normal_distribution<double> n(0, 1);
+  std::vector<int> loops;
+  for (int q = 200; q < 400; ++q) {
+    Eigen::Isometry3d T = merged.gt[q].inverse() * merged.gt[q - 200];
+    T.translation() += Eigen::Vector3d(n(rng), n(rng), n(rng)) * 0.03;
+    loops.push_back(merged.graph.add_loop_unsolved(q, q - 200, T));
+    every.graph.add_loop_unsolved(q, q - 200, T);
+  }
+  merged.graph.optimise();
+  every.graph.optimise();
+  for (int q = 200; q < 399; ++q) ASSERT_TRUE(merged.graph.merge(q, loops[std::size_t(q - 200)]));
+  EXPECT_EQ(merged.graph.solved_nodes(), 201u);
+  // the first lap's odometry (each fused with its second-lap twin), 199 -> 0, 198 -> 399 and
+  // the newest node's loop
+  EXPECT_EQ(merged.graph.solved_edges(), 199u + 3u);
+  EXPECT_EQ(merged.graph.loop_count(), 200u);
+  merged.graph.optimise();
+  const double ate_every = eval::ate_rmse(every.gt, estimate(every.graph));
+  EXPECT_LT(eval::ate_rmse(merged.gt, estimate(merged.graph)), 1.1 * ate_every + 0.01) << ate_every;
+  EXPECT_LT(largest_difference(merged.graph, every.graph), 0.05);
+}
+
+}  // namespace
+}  // namespace loopscan

@@ -372,6 +372,7 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
                       {"queue_waits", {{"count", run.queue_waits}, {"ms", run.queue_wait_ms}}},
                       {"map_places", run.map.size()},
                       {"linked_keyframes", tm.linked},
+                      {"graph", {{"nodes", tm.graph_nodes}, {"edges", tm.graph_edges}}},
                       {"map_bytes_per_place",
                        run.map.size() > 0 && !ec ? map_bytes / double(run.map.size()) : 0.0}};
   if (gt) {

@@ -78,9 +78,11 @@ void validate(const LoopCloserConfig& c) {
   }
   const LifelongConfig& l = c.lifelong;
   if (!(l.max_distance_m >= 0 && l.max_distance_m <= 1e3) ||
-      !(l.max_rotation_deg >= 0 && l.max_rotation_deg <= 180)) {
+      !(l.max_rotation_deg >= 0 && l.max_rotation_deg <= 180) ||
+      !(l.merge_after_keyframes >= 1 && l.merge_after_keyframes <= 1000000)) {
     throw std::invalid_argument(
-        "loop closer config: lifelong max_distance_m in [0, 1000], max_rotation_deg in [0, 180]");
+        "loop closer config: lifelong max_distance_m in [0, 1000], max_rotation_deg in [0, 180], "
+        "merge_after_keyframes in [1, 1000000]");
   }
 }
 
@@ -349,6 +351,7 @@ KeyframeClosure LoopCloser::integrate(PreparedKeyframe prepared) {
   {
     const ScopedTimer timer(times_.graph);
     add_graph_node(prepared.keyframe, prepared.reset);
+    merge_linked_nodes();
   }
   if (!prepared.has_scan) return out;
   if (out.skipped) {
@@ -407,6 +410,9 @@ void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
   out.linked_place = held_place(keyframe.id, out);
   if (out.linked_place >= 0) {
     ++times_.linked;
+    if (config_.lifelong.merge_nodes) {
+      links_.push_back({loop_index_.at({keyframe.id, std::size_t(out.linked_place)}), described_});
+    }
     return;
   }
   const std::unique_lock lock(*db_mutex_);
@@ -430,6 +436,21 @@ long LoopCloser::held_place(int keyframe_id, const KeyframeClosure& out) const {
       return static_cast<long>(loop.place_index);
   }
   return -1;
+}
+
+// A linked keyframe's node folds into its place's once the link's loop has stood for a while
+// in the graph; a link whose loop never joined it, or was dropped, keeps its node.
+void LoopCloser::merge_linked_nodes() {
+  while (!links_.empty() &&
+         described_ - links_.front().described_at >= config_.lifelong.merge_after_keyframes) {
+    const std::size_t loop = links_.front().loop;
+    links_.pop_front();
+    for (auto it = graph_loops_.rbegin(); it != graph_loops_.rend(); ++it) {
+      if (it->first != loop) continue;
+      graph_.merge(graph_node_[pose_index_.at(loops_[loop].query)], it->second);
+      break;
+    }
+  }
 }
 
 void LoopCloser::join_graph(KeyframeClosure& out) {
@@ -505,6 +526,8 @@ GraphSolve LoopCloser::finish() {
     KeyframeClosure none;
     update_verdicts(none);
   }
+  times_.graph_nodes = graph_.solved_nodes();
+  times_.graph_edges = graph_.solved_edges();
   return s;
 }
 

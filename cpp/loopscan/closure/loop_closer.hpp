@@ -53,10 +53,14 @@ struct ProximityConfig {
 // verification passed (and the graph did not refuse) to a place of its own session within these
 // bounds. Places of other sessions (another date or season) never absorb it: each session keeps
 // its own appearance.
+// Its graph node merges into the place's `merge_after_keyframes` keyframes later (once later
+// loops had their say on the link), so the pose graph grows with the area too.
 struct LifelongConfig {
   bool enabled = true;
   double max_distance_m = 3.0;
   double max_rotation_deg = 15.0;
+  bool merge_nodes = true;
+  int merge_after_keyframes = 200;
 };
 
 struct LoopCloserConfig {
@@ -90,6 +94,7 @@ struct StageTimes {
   int keyframes = 0, described = 0, verifications = 0, solves = 0;
   int linked = 0;   // described keyframes linked to a place the map held (not added)
   int skipped = 0;  // described keyframes left unverified (BackgroundConfig::WhenFull)
+  std::size_t graph_nodes = 0, graph_edges = 0;  // the pose graph's solved ones, at finish()
 };
 
 struct KeyframeClosure {
@@ -202,6 +207,7 @@ class LoopCloser {
   void update_verdicts(KeyframeClosure& out);
   void join_graph(KeyframeClosure& out);  // the accepted loops' edges, and a solve if due
   long held_place(int keyframe_id, const KeyframeClosure& out) const;
+  void merge_linked_nodes();
   int match_node(const Loop& loop);
   void anchor(const Loop& loop, int query_node);
 
@@ -231,6 +237,11 @@ class LoopCloser {
   std::vector<Loop> loops_;
   std::map<std::pair<int, std::size_t>, std::size_t> loop_index_;  // (query, place) -> loops_
   std::vector<std::pair<std::size_t, int>> graph_loops_;           // loops_ index, graph loop id
+  struct Link {
+    std::size_t loop;  // loops_ index of the linking loop
+    int described_at;
+  };
+  std::deque<Link> links_;  // linked keyframes whose nodes are not merged yet
   StageTimes times_;
   int described_ = 0;
   int last_solve_at_ = -1000000;

@@ -1,5 +1,6 @@
 #include "loopscan/closure/pose_graph.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -27,7 +28,72 @@ struct Edge {
   Eigen::Matrix<double, 6, 6> sqrt_info;  // r = sqrt_info * e with r^T r = e^T Sigma^-1 e
   bool loop = false;
   bool active = true;
+  bool absorbed = false;  // inactive because a merge took it over (a loop: kept for good)
 };
+
+// A relative pose with its covariance, perturbed as the residual is: translation additive in
+// the first node's frame, rotation on the right.
+struct Measurement {
+  Eigen::Isometry3d T;
+  Covariance6 C;
+};
+
+inline Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+inline Measurement measurement(const Edge& e) {
+  Measurement m;
+  m.T = Eigen::Isometry3d::Identity();
+  m.T.linear() = e.q_ab.toRotationMatrix();
+  m.T.translation() = e.p_ab;
+  const Covariance6 L = e.sqrt_info.inverse();  // sqrt_info = L^-1 with Sigma = L L^T
+  m.C = L * L.transpose();
+  return m;
+}
+
+inline Measurement inverse(const Measurement& m) {
+  const Eigen::Matrix3d R = m.T.rotation();
+  Covariance6 J = Covariance6::Zero();
+  J.topLeftCorner<3, 3>() = -R.transpose();
+  J.topRightCorner<3, 3>() = -skew(R.transpose() * m.T.translation());
+  J.bottomRightCorner<3, 3>() = -R;
+  return {m.T.inverse(), J * m.C * J.transpose()};
+}
+
+// T_a_c = T_a_b * T_b_c, the two measured independently.
+inline Measurement compose(const Measurement& ab, const Measurement& bc) {
+  const Eigen::Matrix3d R_ab = ab.T.rotation(), R_bc = bc.T.rotation();
+  Covariance6 J1 = Covariance6::Identity(), J2 = Covariance6::Identity();
+  J1.topRightCorner<3, 3>() = -R_ab * skew(bc.T.translation());
+  J1.bottomRightCorner<3, 3>() = R_bc.transpose();
+  J2.topLeftCorner<3, 3>() = R_ab;
+  return {ab.T * bc.T, J1 * ab.C * J1.transpose() + J2 * bc.C * J2.transpose()};
+}
+
+// The estimate two independent measurements of one relative pose give together: the minimum
+// of both residuals' costs, linearised at the first.
+inline Measurement fuse(const Measurement& m1, const Measurement& m2) {
+  const Covariance6 I1 = m1.C.inverse(), I2 = m2.C.inverse();
+  const Covariance6 C = (I1 + I2).inverse();
+  const Eigen::Quaterniond q1(m1.T.rotation());
+  Eigen::Quaterniond dq = q1.conjugate() * Eigen::Quaterniond(m2.T.rotation());
+  if (dq.w() < 0) dq.coeffs() *= -1;
+  Eigen::Matrix<double, 6, 1> d;
+  d << m2.T.translation() - m1.T.translation(), 2.0 * dq.vec();
+  const Eigen::Matrix<double, 6, 1> step = C * (I2 * d);
+  const Eigen::Vector3d half = 0.5 * step.tail<3>();
+  const Eigen::Quaterniond turn(std::sqrt(std::max(0.0, 1.0 - half.squaredNorm())), half.x(),
+                                half.y(), half.z());
+  Measurement out;
+  out.T = Eigen::Isometry3d::Identity();
+  out.T.linear() = (q1 * turn).normalized().toRotationMatrix();
+  out.T.translation() = m1.T.translation() + step.head<3>();
+  out.C = 0.5 * (C + C.transpose());
+  return out;
+}
 
 // Residual of T_a_b against its measurement: translation in a's frame, 2 * vector part of the
 // rotation difference; whitened.
@@ -92,6 +158,7 @@ struct PoseGraph::Impl {
   std::vector<std::vector<int>> node_edges;  // per node: its edges
   std::vector<int> run_starts;  // nodes that begin a VO run (prior, first one fixed)
   std::vector<char> fixed;      // per node: a saved map's place
+  std::vector<int> merged_into;  // per node: -1, or the node it follows (its pose there in nodes)
   bool has_fixed = false;
   int last_movable = -1;  // the node odometry continues from
   std::vector<int> changed;  // nodes added or given an edge since the last solve
@@ -101,6 +168,7 @@ struct PoseGraph::Impl {
     nodes.push_back(n);
     node_edges.emplace_back();
     fixed.push_back(is_fixed ? 1 : 0);
+    merged_into.push_back(-1);
     const int id = static_cast<int>(nodes.size() - 1);
     changed.push_back(id);
     return id;
@@ -158,7 +226,7 @@ struct PoseGraph::Impl {
     ceres::Problem problem(po);
     ceres::EigenQuaternionManifold quaternion;
     for (std::size_t i = 0; i < nodes.size(); ++i) {
-      if (!moves(int(i))) continue;
+      if (!moves(int(i)) || merged_into[i] >= 0) continue;
       Node& n = nodes[i];
       problem.AddParameterBlock(n.p, 3);
       problem.AddParameterBlock(n.q, 4, &quaternion);
@@ -184,7 +252,7 @@ struct PoseGraph::Impl {
     // Later VO runs float: a prior far weaker than any edge (at the current estimate) only
     // fixes their gauge until a loop ties them to the first run.
     for (std::size_t i = has_fixed ? 0 : 1; i < run_starts.size(); ++i) {
-      if (!moves(run_starts[i])) continue;
+      if (!moves(run_starts[i]) || merged_into[std::size_t(run_starts[i])] >= 0) continue;
       Node& n = nodes[std::size_t(run_starts[i])];
       const Eigen::Isometry3d T = to_pose(n);
       auto* f = new ceres::AutoDiffCostFunction<PriorError, 6, 3, 4>(
@@ -330,6 +398,13 @@ struct PoseGraph::Impl {
                                   " and " + std::to_string(b) + " of " +
                                   std::to_string(nodes.size()));
     }
+    for (const int end : {a, b}) {
+      if (merged_into[std::size_t(end)] >= 0) {
+        throw std::invalid_argument("pose graph: node " + std::to_string(end) +
+                                    " was merged into node " +
+                                    std::to_string(merged_into[std::size_t(end)]));
+      }
+    }
     if (!T_a_b.matrix().allFinite()) throw std::invalid_argument("pose graph: non-finite edge");
     Edge e;
     e.a = a, e.b = b, e.loop = loop;
@@ -345,6 +420,83 @@ struct PoseGraph::Impl {
       throw std::invalid_argument("pose graph: an edge covariance that is not positive definite");
     }
     return e;
+  }
+
+  Eigen::Isometry3d pose_of(std::size_t i) const {
+    const int into = merged_into[i];
+    return into < 0 ? to_pose(nodes[i]) : pose_of(std::size_t(into)) * to_pose(nodes[i]);
+  }
+
+  void unlink(int node, int edge) {
+    std::vector<int>& list = node_edges[std::size_t(node)];
+    list.erase(std::remove(list.begin(), list.end(), edge), list.end());
+  }
+
+  void set_measurement(Edge& e, int a, int b, const Measurement& m) {
+    const Edge moved = make_edge(a, b, m.T, m.C, e.loop);
+    e.a = a, e.b = b;
+    e.p_ab = moved.p_ab, e.q_ab = moved.q_ab, e.sqrt_info = moved.sqrt_info;
+  }
+
+  bool merge(int k, int loop_id) {
+    if (k < 0 || std::size_t(k) >= nodes.size() || loop_id < 0 ||
+        std::size_t(loop_id) >= edges.size()) {
+      throw std::invalid_argument("pose graph: merge of node " + std::to_string(k) +
+                                  " along edge " + std::to_string(loop_id) +
+                                  ": no such node or edge");
+    }
+    Edge& link = edges[std::size_t(loop_id)];
+    if (!link.loop || (link.a != k && link.b != k)) {
+      throw std::invalid_argument("pose graph: edge " + std::to_string(loop_id) +
+                                  " is not a loop of node " + std::to_string(k));
+    }
+    if (merged_into[std::size_t(k)] >= 0 || held(std::size_t(k)) || k == last_movable) {
+      throw std::invalid_argument("pose graph: node " + std::to_string(k) +
+                                  " cannot be merged (merged already, held, or the newest)");
+    }
+    if (!link.active) return false;
+    const int p = link.a == k ? link.b : link.a;
+    // T_k_p as the solves estimated it (every loop and odometry edge together, far better
+    // known than by this loop alone), taken as exact from now on: the node becomes part of
+    // the other, and its odometry edges keep their own covariances.
+    const Measurement kp{to_pose(nodes[std::size_t(k)]).inverse() * to_pose(nodes[std::size_t(p)]),
+                         Covariance6::Zero()};
+    link.active = false;
+    link.absorbed = true;
+    unlink(p, loop_id);
+    changed.push_back(p);
+    for (const int id : node_edges[std::size_t(k)]) {
+      Edge& e = edges[std::size_t(id)];
+      if (id == loop_id || !e.active) continue;
+      const int x = e.a == k ? e.b : e.a;
+      const Measurement xp = compose(e.b == k ? measurement(e) : inverse(measurement(e)), kp);
+      changed.push_back(x);
+      Edge* twin = nullptr;  // an odometry edge that already joins x and p
+      for (const int other : node_edges[std::size_t(x)]) {
+        Edge& f = edges[std::size_t(other)];
+        if (x != p && other != id && f.active && !f.loop && !e.loop && (f.a == p || f.b == p)) {
+          twin = &f;
+        }
+      }
+      if (x == p || twin) {
+        // (x == p: a measurement of T_p_k, which the merge fixes)
+        if (twin) {
+          const Measurement fused = twin->a == x ? fuse(measurement(*twin), xp)
+                                                 : inverse(fuse(inverse(measurement(*twin)), xp));
+          set_measurement(*twin, twin->a, twin->b, fused);
+        }
+        e.active = false;
+        e.absorbed = true;
+        unlink(x, id);
+        continue;
+      }
+      set_measurement(e, x, p, xp);
+      node_edges[std::size_t(p)].push_back(id);
+    }
+    std::vector<int>().swap(node_edges[std::size_t(k)]);
+    nodes[std::size_t(k)] = to_node(kp.T.inverse());
+    merged_into[std::size_t(k)] = p;
+    return true;
   }
 };
 
@@ -399,7 +551,8 @@ int PoseGraph::add_fixed_node(const Eigen::Isometry3d& T_world_cam) {
 
 void PoseGraph::transform(const Eigen::Isometry3d& T_new_old) {
   for (std::size_t i = 0; i < impl_->nodes.size(); ++i) {
-    if (!impl_->fixed[i]) impl_->nodes[i] = to_node(T_new_old * to_pose(impl_->nodes[i]));
+    if (!impl_->fixed[i] && impl_->merged_into[i] < 0)
+      impl_->nodes[i] = to_node(T_new_old * to_pose(impl_->nodes[i]));
   }
 }
 
@@ -423,7 +576,7 @@ double PoseGraph::loop_residual(int a, int b, const Eigen::Isometry3d& T_a_b,
 bool PoseGraph::loop_active(int loop_id) const {
   if (loop_id < 0 || std::size_t(loop_id) >= impl_->edges.size()) return false;
   const Edge& e = impl_->edges[std::size_t(loop_id)];
-  return e.loop && e.active;
+  return e.loop && (e.active || e.absorbed);
 }
 
 GraphSolve PoseGraph::optimise() {
@@ -439,6 +592,22 @@ GraphSolve PoseGraph::update() {
 }
 
 bool PoseGraph::approximate() const { return impl_->approximate; }
+
+bool PoseGraph::merge(int node, int loop_id) { return impl_->merge(node, loop_id); }
+
+bool PoseGraph::merged(int node) const {
+  return impl_->merged_into.at(static_cast<std::size_t>(node)) >= 0;
+}
+
+std::size_t PoseGraph::solved_nodes() const {
+  return std::size_t(std::count(impl_->merged_into.begin(), impl_->merged_into.end(), -1));
+}
+
+std::size_t PoseGraph::solved_edges() const {
+  std::size_t n = 0;
+  for (const Edge& e : impl_->edges) n += e.active;
+  return n;
+}
 
 bool PoseGraph::add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolve* solve,
                          int* loop_id, const Covariance6* covariance) {
@@ -468,17 +637,21 @@ bool PoseGraph::add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolv
 std::size_t PoseGraph::size() const { return impl_->nodes.size(); }
 
 Eigen::Isometry3d PoseGraph::pose(int node) const {
-  return to_pose(impl_->nodes.at(static_cast<std::size_t>(node)));
+  const std::size_t i = static_cast<std::size_t>(node);
+  if (impl_->merged_into.at(i) >= 0) return impl_->pose_of(i);
+  return to_pose(impl_->nodes[i]);
 }
 
 Eigen::Vector3d PoseGraph::position(int node) const {
-  const Node& n = impl_->nodes.at(static_cast<std::size_t>(node));
+  const std::size_t i = static_cast<std::size_t>(node);
+  if (impl_->merged_into.at(i) >= 0) return impl_->pose_of(i).translation();
+  const Node& n = impl_->nodes[i];
   return Eigen::Vector3d(n.p[0], n.p[1], n.p[2]);
 }
 
 std::size_t PoseGraph::loop_count() const {
   std::size_t n = 0;
-  for (const Edge& e : impl_->edges) n += e.loop && e.active;
+  for (const Edge& e : impl_->edges) n += e.loop && (e.active || e.absorbed);
   return n;
 }
 

@@ -7,7 +7,8 @@
 // Online solves are local: only the nodes within a few edges of what changed move, the rest
 // hold still; the window grows until the edges across its border carry no new strain, so a
 // revisit of a corrected map costs milliseconds at any graph size while the first loop after a
-// long drift still spreads over the whole lap.
+// long drift still spreads over the whole lap. A node that revisits another can be merged into
+// it (merge()), so a drive over the same places keeps the solves the size of the area.
 #include <memory>
 #include <vector>
 
@@ -97,11 +98,25 @@ class PoseGraph {
   // True when a local solve ran since the last whole-graph one.
   bool approximate() const;
 
+  // Folds `node` into the other end of `loop_id` (one of its active loops): the relative pose
+  // the solves estimate between the two becomes exact, so the node's pose follows the other's
+  // from now on, and its other edges move there composed with it (their covariances carried
+  // over to first order). An odometry edge that then joins two nodes another odometry edge
+  // joins is fused with it (information added), so laps over the same places add neither nodes
+  // nor edges to the solves. Merge once the estimate has settled: no solve revisits what the
+  // merge fixed. The loop counts as kept and no solve can drop it. Returns false (nothing
+  // done) when the loop is not active. Throws for a held node, the node odometry continues
+  // from, or one merged already; edges can no longer be added to a merged node.
+  bool merge(int node, int loop_id);
+  bool merged(int node) const;
+  std::size_t solved_nodes() const;  // nodes a whole-graph solve holds (not merged)
+  std::size_t solved_edges() const;  // its edges
+
   std::size_t size() const;
   Eigen::Isometry3d pose(int node) const;  // current estimate, camera-to-world
   Eigen::Vector3d position(int node) const;  // its translation (no rotation built)
-  std::size_t loop_count() const;          // loops currently in the graph
-  // Whitened residual norm of every loop in the graph, at the current estimate.
+  std::size_t loop_count() const;            // loops currently in the graph (merged ones too)
+  // Whitened residual norm of every loop in the graph (not merged), at the current estimate.
   std::vector<double> loop_residuals() const;
   double cost() const;  // at the current estimate
 

@@ -267,6 +267,9 @@ void visit_closure(V& v, Configuration& c) {
     v.key("enabled", f.enabled, "held: an accepted loop to a place of its own session within");
     v.key("max_distance_m", f.max_distance_m, closed(0, 1e3), "... this distance (m)");
     v.key("max_rotation_deg", f.max_rotation_deg, closed(0, 180), "... and rotation (degrees)");
+    v.key("merge_nodes", f.merge_nodes, "its pose-graph node merges into the place's ...");
+    v.key("merge_after_keyframes", f.merge_after_keyframes, closed(1, 1000000),
+          "... this many keyframes later");
   });
   v.section("loop_uncertainty", "each loop edge's covariance, from its alignment", [&] {
     closure::LoopUncertaintyConfig& u = l.loop_uncertainty;

@@ -1,0 +1,112 @@
+#pragma once
+// Simulated drives for the loop-closer tests: a built-in route with a drifting VO, driven one
+// or more laps, streamed keyframe by keyframe and scored against the ground truth.
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "loopscan/closure/loop_closer.hpp"
+#include "loopscan/core/keyframe_stream.hpp"
+#include "loopscan/eval/loop_metrics.hpp"
+#include "loopscan/sim/trajectory.hpp"
+#include "loopscan/sim/vo_simulator.hpp"
+#include "loopscan/sim/world.hpp"
+
+namespace loopscan::test {
+
+struct Drive {
+  sim::Trajectory route;
+  sim::VoOutput vo;
+};
+
+// A built-in route (default: the short one, a block and its first street again) with a
+// drifting VO (default 1 %), driven `laps` times (the world built along one lap and the way
+// back to its start).
+inline Drive drive(sim::Season season, unsigned session, const std::string& route = "short",
+                   double drift_per_m = 0.02, int laps = 1) {
+  const sim::Trajectory one_lap = sim::make_builtin_trajectory(route);
+  Drive d{sim::drive_laps(one_lap, laps), {}};
+  sim::WorldConfig wc;
+  wc.seed = 1;
+  const sim::World world = sim::World::build(sim::lap_streets(one_lap, laps), wc);
+  sim::Conditions conditions = sim::Conditions::for_season(season);
+  conditions.session_seed = session;
+  sim::VoSimConfig vo;
+  vo.seed = conditions.noise_seed(wc.seed);
+  vo.drift_translation_per_m = drift_per_m;
+  vo.drift_rotation_deg_per_m = 3 * drift_per_m;
+  d.vo = sim::simulate_vo(d.route, sim::select_keyframes(d.route), world, conditions,
+                          sim::StereoCamera{}, vo);
+  return d;
+}
+
+template <typename PerKeyframe>
+void stream(const Drive& d, PerKeyframe&& f) {
+  for_each_keyframe(d.vo.poses, d.vo.points, f);
+}
+
+inline std::vector<Eigen::Vector3d> centres(const std::vector<KeyframePose>& poses) {
+  std::vector<Eigen::Vector3d> out;
+  for (const KeyframePose& k : poses) {
+    out.push_back(-k.T_cam_world.leftCols<3>().transpose() * k.T_cam_world.col(3));
+  }
+  return out;
+}
+
+struct Closed {
+  double ate_before = 0, ate_after = 0;
+  int revisits = 0, closed = 0, false_loops = 0;
+  std::size_t map_places = 0, graph_nodes = 0, graph_edges = 0;
+  std::vector<int> joined;       // keyframes whose place joined the map
+  std::string false_list;        // query -> match (source, metres apart)
+  std::vector<double> whitened;  // per accepted loop: |translation error| in its covariance
+};
+
+// Runs the closer over a drive and scores it against the ground truth (a revisit: a keyframe
+// within 10 m of one 100 or more keyframes earlier).
+inline Closed close_drive(const Drive& d, const closure::LoopCloserConfig& config) {
+  closure::LoopCloser closer(config);
+  Closed out;
+  stream(d, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+    const closure::KeyframeClosure c = closer.add_keyframe(k, p, n);
+    if (c.described && c.linked_place < 0) out.joined.push_back(k.id);
+  });
+  closer.finish();
+  out.map_places = closer.database().size();
+  out.graph_nodes = closer.times().graph_nodes;
+  out.graph_edges = closer.times().graph_edges;
+  std::vector<Eigen::Vector3d> gt;
+  for (const KeyframePose& k : d.vo.poses)
+    gt.push_back(d.route.T_world_cam[std::size_t(k.id)].translation());
+  out.ate_before = eval::aligned_rmse(gt, centres(d.vo.poses));
+  out.ate_after = eval::aligned_rmse(gt, centres(closer.corrected_poses()));
+  std::set<int> closed_queries;
+  for (const closure::Loop& l : closer.loops()) {
+    if (!l.accepted()) continue;
+    const Eigen::Isometry3d& q = d.route.T_world_cam[std::size_t(l.query)];
+    const Eigen::Isometry3d& m = d.route.T_world_cam[std::size_t(l.match.keyframe)];
+    const eval::LoopTruth t = eval::loop_truth(l.T_query_match, q, m);
+    if (!t.is_true) {
+      ++out.false_loops;
+      out.false_list += std::to_string(l.query) + " -> " + std::to_string(l.match.keyframe) +
+                        (l.nearby ? " (nearby, " : " (descriptor, ") +
+                        std::to_string(t.gt_distance_m) + " m) ";
+      continue;
+    }
+    closed_queries.insert(l.query);
+    const Eigen::Vector3d error = l.T_query_match.translation() - (q.inverse() * m).translation();
+    const Eigen::Matrix3d cov =
+        closure::loop_covariance(l, config.loop_uncertainty).topLeftCorner<3, 3>();
+    out.whitened.push_back(std::sqrt(error.dot(cov.ldlt().solve(error))));
+  }
+  for (std::size_t i = 0; i < d.vo.poses.size(); ++i) {
+    bool revisit = false;
+    for (std::size_t j = 0; j + 100 <= i && !revisit; ++j) revisit = (gt[i] - gt[j]).norm() <= 10.0;
+    out.revisits += revisit;
+    out.closed += revisit && closed_queries.count(d.vo.poses[i].id);
+  }
+  return out;
+}
+
+}  // namespace loopscan::test
