@@ -53,8 +53,8 @@ struct ProximityConfig {
 // verification passed (and the graph did not refuse) to a place of its own session within these
 // bounds. Places of other sessions (another date or season) never absorb it: each session keeps
 // its own appearance.
-// Its graph node merges into the place's `merge_after_keyframes` keyframes later (once later
-// loops had their say on the link), so the pose graph grows with the area too.
+// Its graph node merges into the place's `merge_after_keyframes` described keyframes later
+// (once later loops had their say on the link), so the pose graph grows with the area too.
 struct LifelongConfig {
   bool enabled = true;
   double max_distance_m = 3.0;

@@ -86,6 +86,7 @@ class PoseGraph {
                        const Covariance6* covariance = nullptr) const;
 
   // Adds a loop without solving (batch use); call optimise() afterwards. Returns its id.
+  // (Loops, like every edge, throw for a merged node.)
   int add_loop_unsolved(int a, int b, const Eigen::Isometry3d& T_a_b,
                         const Covariance6* covariance = nullptr);
   // False once a solve dropped the loop (or the cost gate refused it).

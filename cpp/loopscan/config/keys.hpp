@@ -269,7 +269,7 @@ void visit_closure(V& v, Configuration& c) {
     v.key("max_rotation_deg", f.max_rotation_deg, closed(0, 180), "... and rotation (degrees)");
     v.key("merge_nodes", f.merge_nodes, "its pose-graph node merges into the place's ...");
     v.key("merge_after_keyframes", f.merge_after_keyframes, closed(1, 1000000),
-          "... this many keyframes later");
+          "... this many described keyframes later");
   });
   v.section("loop_uncertainty", "each loop edge's covariance, from its alignment", [&] {
     closure::LoopUncertaintyConfig& u = l.loop_uncertainty;
