@@ -9,6 +9,8 @@
 #include <Eigen/Cholesky>
 #include <ceres/ceres.h>
 
+#include "loopscan/core/rigid_motion.hpp"
+
 namespace loopscan::closure {
 namespace detail {
 
@@ -38,12 +40,6 @@ struct Measurement {
   Covariance6 C;
 };
 
-inline Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
 inline Measurement measurement(const Edge& e) {
   Measurement m;
   m.T = Eigen::Isometry3d::Identity();
@@ -63,14 +59,12 @@ inline Measurement inverse(const Measurement& m) {
   return {m.T.inverse(), J * m.C * J.transpose()};
 }
 
-// T_a_c = T_a_b * T_b_c, the two measured independently.
-inline Measurement compose(const Measurement& ab, const Measurement& bc) {
-  const Eigen::Matrix3d R_ab = ab.T.rotation(), R_bc = bc.T.rotation();
-  Covariance6 J1 = Covariance6::Identity(), J2 = Covariance6::Identity();
-  J1.topRightCorner<3, 3>() = -R_ab * skew(bc.T.translation());
-  J1.bottomRightCorner<3, 3>() = R_bc.transpose();
-  J2.topLeftCorner<3, 3>() = R_ab;
-  return {ab.T * bc.T, J1 * ab.C * J1.transpose() + J2 * bc.C * J2.transpose()};
+// T_a_c = T_a_b * T_b_c with T_b_c exact.
+inline Measurement compose(const Measurement& ab, const Eigen::Isometry3d& T_bc) {
+  Covariance6 J = Covariance6::Identity();
+  J.topRightCorner<3, 3>() = -ab.T.rotation() * skew(T_bc.translation());
+  J.bottomRightCorner<3, 3>() = T_bc.rotation().transpose();
+  return {ab.T * T_bc, J * ab.C * J.transpose()};
 }
 
 // The estimate two independent measurements of one relative pose give together: the minimum
@@ -159,6 +153,9 @@ struct PoseGraph::Impl {
   std::vector<int> run_starts;  // nodes that begin a VO run (prior, first one fixed)
   std::vector<char> fixed;      // per node: a saved map's place
   std::vector<int> merged_into;  // per node: -1, or the node it follows (its pose there in nodes)
+  std::size_t merged_count = 0;
+
+  std::size_t solved_nodes() const { return nodes.size() - merged_count; }
   bool has_fixed = false;
   int last_movable = -1;  // the node odometry continues from
   std::vector<int> changed;  // nodes added or given an edge since the last solve
@@ -276,7 +273,7 @@ struct PoseGraph::Impl {
   GraphSolve solve_whole() {
     GraphSolve s = solve(nullptr);
     s.whole_graph = true;
-    s.moved_nodes = nodes.size();
+    s.moved_nodes = solved_nodes();
     changed.clear();
     approximate = false;
     return s;
@@ -313,6 +310,10 @@ struct PoseGraph::Impl {
   // Solves around `changed` (see PoseGraphConfig::window_nodes). The costs are those of the
   // edges the largest window touched.
   GraphSolve solve_changed() {
+    // (nodes merged since they changed have no edges left to solve)
+    changed.erase(std::remove_if(changed.begin(), changed.end(),
+                                 [&](int n) { return merged_into[std::size_t(n)] >= 0; }),
+                  changed.end());
     if (changed.empty()) return {};
     if (!config.incremental) return solve_whole();
     GraphSolve total;
@@ -331,9 +332,9 @@ struct PoseGraph::Impl {
     for (std::size_t count = std::size_t(config.window_nodes);;) {
       std::size_t size = 0;
       std::vector<char> inside;
-      if (2 * count < nodes.size()) inside = window(count, size);
-      if (inside.empty() || 2 * size >= nodes.size()) {
-        add(solve_whole(), nodes.size());
+      if (2 * count < solved_nodes()) inside = window(count, size);
+      if (inside.empty() || 2 * size >= solved_nodes()) {
+        add(solve_whole(), solved_nodes());
         total.whole_graph = true;
         return total;
       }
@@ -423,7 +424,7 @@ struct PoseGraph::Impl {
   }
 
   Eigen::Isometry3d pose_of(std::size_t i) const {
-    const int into = merged_into[i];
+    const int into = merged_into.at(i);
     return into < 0 ? to_pose(nodes[i]) : pose_of(std::size_t(into)) * to_pose(nodes[i]);
   }
 
@@ -459,8 +460,8 @@ struct PoseGraph::Impl {
     // T_k_p as the solves estimated it (every loop and odometry edge together, far better
     // known than by this loop alone), taken as exact from now on: the node becomes part of
     // the other, and its odometry edges keep their own covariances.
-    const Measurement kp{to_pose(nodes[std::size_t(k)]).inverse() * to_pose(nodes[std::size_t(p)]),
-                         Covariance6::Zero()};
+    const Eigen::Isometry3d T_kp =
+        to_pose(nodes[std::size_t(k)]).inverse() * to_pose(nodes[std::size_t(p)]);
     link.active = false;
     link.absorbed = true;
     unlink(p, loop_id);
@@ -469,13 +470,13 @@ struct PoseGraph::Impl {
       Edge& e = edges[std::size_t(id)];
       if (id == loop_id || !e.active) continue;
       const int x = e.a == k ? e.b : e.a;
-      const Measurement xp = compose(e.b == k ? measurement(e) : inverse(measurement(e)), kp);
+      const Measurement xp = compose(e.b == k ? measurement(e) : inverse(measurement(e)), T_kp);
       changed.push_back(x);
       Edge* twin = nullptr;  // an odometry edge that already joins x and p
-      for (const int other : node_edges[std::size_t(x)]) {
-        Edge& f = edges[std::size_t(other)];
-        if (x != p && other != id && f.active && !f.loop && !e.loop && (f.a == p || f.b == p)) {
-          twin = &f;
+      if (x != p && !e.loop) {
+        for (const int other : node_edges[std::size_t(x)]) {
+          Edge& f = edges[std::size_t(other)];
+          if (f.active && !f.loop && (f.a == p || f.b == p)) twin = &f;
         }
       }
       if (x == p || twin) {
@@ -494,8 +495,9 @@ struct PoseGraph::Impl {
       node_edges[std::size_t(p)].push_back(id);
     }
     std::vector<int>().swap(node_edges[std::size_t(k)]);
-    nodes[std::size_t(k)] = to_node(kp.T.inverse());
+    nodes[std::size_t(k)] = to_node(T_kp.inverse());
     merged_into[std::size_t(k)] = p;
+    ++merged_count;
     return true;
   }
 };
@@ -599,9 +601,7 @@ bool PoseGraph::merged(int node) const {
   return impl_->merged_into.at(static_cast<std::size_t>(node)) >= 0;
 }
 
-std::size_t PoseGraph::solved_nodes() const {
-  return std::size_t(std::count(impl_->merged_into.begin(), impl_->merged_into.end(), -1));
-}
+std::size_t PoseGraph::solved_nodes() const { return impl_->solved_nodes(); }
 
 std::size_t PoseGraph::solved_edges() const {
   std::size_t n = 0;
@@ -637,9 +637,7 @@ bool PoseGraph::add_loop(int a, int b, const Eigen::Isometry3d& T_a_b, GraphSolv
 std::size_t PoseGraph::size() const { return impl_->nodes.size(); }
 
 Eigen::Isometry3d PoseGraph::pose(int node) const {
-  const std::size_t i = static_cast<std::size_t>(node);
-  if (impl_->merged_into.at(i) >= 0) return impl_->pose_of(i);
-  return to_pose(impl_->nodes[i]);
+  return impl_->pose_of(static_cast<std::size_t>(node));
 }
 
 Eigen::Vector3d PoseGraph::position(int node) const {

@@ -33,7 +33,8 @@ struct PoseGraphConfig {
   int max_iterations = 200;
   // Local solves (add_loop, update): the first window holds at least this many nodes nearest
   // (in edges) to what changed; it grows 4x while an edge across its border changed its
-  // whitened residual by more than `max_border_strain`, and becomes the whole graph at half of it.
+  // whitened residual by more than `max_border_strain`, and becomes the whole graph at half of
+  // it (of the nodes not merged).
   bool incremental = true;
   int window_nodes = 300;
   double max_border_strain = 0.03;

@@ -8,15 +8,6 @@
 #include "loopscan/core/rigid_motion.hpp"
 
 namespace loopscan::vo {
-namespace {
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
-
-}  // namespace
 
 Eigen::Matrix3d stereo_point_covariance(const StereoIntrinsics& c, double u, double v,
                                         double disparity, double sigma_px,
