@@ -224,13 +224,16 @@ BENCHMARK(BM_GraphAddLoopOnline)
 // (and solved) when its query keyframe arrives. Reports the time from a loop to corrected poses
 // (median, 99th percentile, the first loop closing the lap, the worst) and how far the online
 // estimate ends from the whole graph's solution of the same loops.
+// Arg 1: 1 with coarse solves (PoseGraphConfig::coarse_nodes 1000, above 1000 nodes).
 void BM_GraphDriveOnline(benchmark::State& state) {
   const int n = int(state.range(0));
   const Drive d = drifted_drive(n);
+  closure::PoseGraphConfig config;
+  if (state.range(1) == 1) config.coarse_nodes = 1000, config.coarse_above_nodes = 1000;
   std::vector<double> ms;
   double first = 0, worst_m = 0, rms_m = 0, moved = 0, online_gt = 0, whole_gt = 0;
   for (auto _ : state) {
-    closure::PoseGraph g;
+    closure::PoseGraph g(config);
     ms.clear();
     int added = 0;
     for (const auto& [q, m, T] : d.loops) {
@@ -279,9 +282,8 @@ void BM_GraphDriveOnline(benchmark::State& state) {
   state.counters["whole_error_m"] = whole_gt;
 }
 BENCHMARK(BM_GraphDriveOnline)
-    ->Arg(1000)
-    ->Arg(5000)
-    ->Arg(20000)
+    ->ArgsProduct({{1000, 5000, 20000}, {0}})
+    ->Args({20000, 1})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 

@@ -278,6 +278,92 @@ TEST(PoseGraph, TheFirstLoopAfterALongDriftGrowsItsWindowToTheWholeGraph) {
   EXPECT_LT(largest_difference(a.graph, b.graph), 1e-4);  // (Ceres' tolerances)
 }
 
+// Coarse whole-graph solves (a window would exceed 100 of the 400 nodes): the first loop after
+// a long drift is solved over about 40 nodes, the rest follow their chains' ends. Oracle: the
+// exact whole graph solved after every loop.
+closure::PoseGraphConfig coarse_config() {
+  closure::PoseGraphConfig c = precise_loops();
+  c.window_nodes = 30;
+  c.coarse_above_nodes = 100;
+  c.coarse_nodes = 40;  // (off by default)
+  return c;
+}
+
+double largest_move(const closure::PoseGraph& g, const Poses& before) {
+  double worst = 0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    worst = std::max(worst, (g.position(int(i)) - before[i].translation()).norm());
+  }
+  return worst;
+}
+
+TEST(PoseGraph, ACoarseSolveComesCloseToTheExactOne) {
+  closure::PoseGraphConfig exact = precise_loops();
+  exact.incremental = false;
+  Built a = build(31, coarse_config()), b = build(31, exact);
+  a.graph.optimise();
+  b.graph.optimise();
+  const Poses drifted_estimate = estimate(b.graph);
+  const Eigen::Isometry3d T = a.gt[300].inverse() * a.gt[100];
+  closure::GraphSolve s;
+  EXPECT_TRUE(a.graph.add_loop(300, 100, T, &s));
+  EXPECT_TRUE(b.graph.add_loop(300, 100, T));
+  EXPECT_TRUE(s.coarse);
+  EXPECT_TRUE(s.whole_graph);
+  EXPECT_TRUE(a.graph.approximate());
+  // The loop moved nodes by metres; the coarse answer is within a few percent of that.
+  const double correction = largest_move(b.graph, drifted_estimate);
+  EXPECT_GT(correction, 1.0);
+  EXPECT_LT(largest_difference(a.graph, b.graph), 0.05 * correction) << correction;
+  // One exact solve makes it the same.
+  a.graph.optimise();
+  EXPECT_FALSE(a.graph.approximate());
+  EXPECT_LT(largest_difference(a.graph, b.graph), 0.01);
+}
+
+// A wrong loop is refused by the cost gate after a coarse solve, and leaves the graph as it was.
+TEST(PoseGraph, ACoarseSolveRefusesAWrongLoop) {
+  Built a = build(33, coarse_config());
+  a.graph.optimise();
+  const Poses before = estimate(a.graph);
+  Eigen::Isometry3d wrong = a.gt[300].inverse() * a.gt[100];
+  wrong.translation() += Eigen::Vector3d(8, 0, 0);
+  closure::GraphSolve s;
+  EXPECT_FALSE(a.graph.add_loop(300, 100, wrong, &s));
+  EXPECT_TRUE(s.coarse);
+  EXPECT_EQ(largest_move(a.graph, before), 0.0);
+}
+
+// Two VO runs (a reset at the start of the second lap: it floats until loops tie it) solved
+// coarsely follow the exact solution.
+TEST(PoseGraph, ACoarseSolveTiesASecondVoRun) {
+  closure::PoseGraphConfig exact = precise_loops();
+  exact.incremental = false;
+  closure::PoseGraph a(coarse_config()), b(exact);
+  const Poses gt = ground_truth(), vo = drifted(gt, 35);
+  for (std::size_t i = 0; i < vo.size(); ++i) {
+    const Eigen::Isometry3d odo = i ? vo[i - 1].inverse() * vo[i] : Eigen::Isometry3d::Identity();
+    // (the second run starts 5 m and 20 degrees off)
+    Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+    start.translation() = Eigen::Vector3d(5, 0, 0);
+    start.linear() = Eigen::AngleAxisd(0.35, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    const bool reset = i == 200;
+    for (closure::PoseGraph* g : {&a, &b})
+      g->add_node(reset ? start * vo[i] : vo[i], i && !reset ? &odo : nullptr);
+  }
+  int coarse = 0;
+  for (int q = 200; q < 400; q += 10) {
+    const Eigen::Isometry3d T = gt[std::size_t(q)].inverse() * gt[std::size_t(q - 200)];
+    closure::GraphSolve s;
+    EXPECT_TRUE(a.add_loop(q, q - 200, T, &s)) << q;
+    EXPECT_TRUE(b.add_loop(q, q - 200, T)) << q;
+    coarse += s.coarse;
+  }
+  EXPECT_GT(coarse, 0);
+  EXPECT_LT(eval::ate_rmse(gt, estimate(a)), 1.1 * eval::ate_rmse(gt, estimate(b)) + 0.01);
+  EXPECT_LT(largest_difference(a, b), 0.1);
+}
+
 // update() solves around new keyframes and loops only: a loop 10 cm off the estimate moves
 // the nodes near it, not those 100 edges away; with nothing new it does nothing.
 TEST(PoseGraph, UpdateSolvesOnlyWhatChanged) {

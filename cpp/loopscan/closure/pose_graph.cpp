@@ -17,6 +17,8 @@ namespace detail {
 // The parameter blocks and residuals: nodes as position + quaternion, edges as measured
 // relative poses with their weights.
 constexpr double kPriorSigma = 1e3;  // weak prior of each VO run's first node (m and rad)
+// A coarse solve stops earlier than an exact one: its answer is an approximation anyway.
+constexpr double kCoarseTolerance = 1e-4;
 
 struct Node {
   double p[3];
@@ -65,6 +67,15 @@ inline Measurement compose(const Measurement& ab, const Eigen::Isometry3d& T_bc)
   J.topRightCorner<3, 3>() = -ab.T.rotation() * skew(T_bc.translation());
   J.bottomRightCorner<3, 3>() = T_bc.rotation().transpose();
   return {ab.T * T_bc, J * ab.C * J.transpose()};
+}
+
+// T_a_c = T_a_b * T_b_c, both measured independently.
+inline Measurement compose(const Measurement& ab, const Measurement& bc) {
+  Measurement ac = compose(ab, bc.T);
+  Covariance6 J = Covariance6::Identity();
+  J.topLeftCorner<3, 3>() = ab.T.rotation();
+  ac.C += J * bc.C * J.transpose();
+  return ac;
 }
 
 // The estimate two independent measurements of one relative pose give together: the minimum
@@ -203,7 +214,7 @@ struct PoseGraph::Impl {
 
   // Solves for the nodes marked in `inside` (nullptr: every node); the other ends of edges
   // leaving the window hold still. Costs are of the edges the solve can change.
-  GraphSolve solve(const std::vector<char>* inside) {
+  GraphSolve solve(const std::vector<char>* inside, double function_tolerance = 1e-6) {
     GraphSolve s;
     s.ran = true;
     const auto t0 = std::chrono::steady_clock::now();
@@ -259,6 +270,7 @@ struct PoseGraph::Impl {
     ceres::Solver::Options options;
     options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     options.max_num_iterations = config.max_iterations;
+    options.function_tolerance = function_tolerance;
     options.num_threads = 1;
     options.logging_type = ceres::SILENT;
     ceres::Solver::Summary summary;
@@ -277,6 +289,205 @@ struct PoseGraph::Impl {
     changed.clear();
     approximate = false;
     return s;
+  }
+
+  // The whole graph solved through a coarse one: its nodes are the ends of odometry chains
+  // (nodes with a loop, a prior, a held pose or more than two edges) and every
+  // `coarse_stride`-th node along a chain; its edges the chains' measurements composed. The
+  // nodes between move with the two ends of their chain, blended by the chain's covariance
+  // up to them, which is how a chain's optimum spreads a correction. Costs are the fine
+  // graph's.
+  GraphSolve solve_coarse() {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::size_t n = nodes.size();
+    std::vector<char> starts_run(n, 0);
+    for (const int r : run_starts) starts_run[std::size_t(r)] = 1;
+    const auto other_end = [&](const Edge& e, int from) { return e.a == from ? e.b : e.a; };
+    // Interior: exactly two active odometry edges to two different nodes (and any loops),
+    // no prior, not held.
+    const auto chain_edge = [&](int id) {
+      const Edge& e = edges[std::size_t(id)];
+      return e.active && !e.loop;
+    };
+    std::vector<char> key(n, 0), interior(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (merged_into[i] >= 0) continue;
+      int ends[3], count = 0;
+      for (const int id : node_edges[i]) {
+        if (chain_edge(id) && count < 3) ends[count++] = other_end(edges[std::size_t(id)], int(i));
+      }
+      interior[i] = !held(i) && !starts_run[i] && count == 2 && ends[0] != ends[1];
+      key[i] = !interior[i];
+    }
+    const auto next_edge = [&](int node, int came_by) {
+      for (const int id : node_edges[std::size_t(node)]) {
+        if (id != came_by && chain_edge(id)) return id;
+      }
+      return -1;
+    };
+    // The interior nodes from `k` along edge `id` to the next key node (`end`).
+    const auto walk = [&](int k, int id, std::vector<std::pair<int, int>>& steps) {
+      steps.clear();
+      int at = k;
+      for (;;) {
+        const int to = other_end(edges[std::size_t(id)], at);
+        steps.emplace_back(to, id);
+        if (key[std::size_t(to)]) return;
+        at = to;
+        id = next_edge(at, id);
+      }
+    };
+    const std::size_t stride =
+        std::max<std::size_t>(2, (solved_nodes() + std::size_t(config.coarse_nodes) - 1) /
+                                     std::size_t(config.coarse_nodes));
+    std::vector<std::pair<int, int>> steps;  // (node reached, edge taken)
+    std::vector<char> visited(n, 0);
+    const auto mark_stride = [&](int k) {
+      for (const int id : node_edges[std::size_t(k)]) {
+        const int first = other_end(edges[std::size_t(id)], k);
+        if (!chain_edge(id) || key[std::size_t(first)] || visited[std::size_t(first)]) continue;
+        walk(k, id, steps);
+        for (std::size_t s = 0; s + 1 < steps.size(); ++s) {
+          visited[std::size_t(steps[s].first)] = 1;
+          if ((s + 1) % stride == 0) key[std::size_t(steps[s].first)] = 1;
+        }
+        // A chain back to where it began needs a node of its own between.
+        if (steps.back().first == k && steps.size() > 1) {
+          key[std::size_t(steps[(steps.size() - 1) / 2].first)] = 1;
+        }
+      }
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      if (key[i] && merged_into[i] < 0) mark_stride(int(i));
+    }
+    for (std::size_t i = 0; i < n; ++i) {  // rings of interior nodes only
+      if (interior[i] && !visited[i] && !key[i]) key[i] = 1, mark_stride(int(i));
+    }
+
+    Impl coarse;
+    coarse.config = config;
+    coarse.has_fixed = true;  // every held node is marked fixed below
+    std::vector<int> index(n, -1);
+    std::vector<int> key_nodes;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!key[i] || merged_into[i] >= 0) continue;
+      index[i] = coarse.add_node(nodes[i], held(i));
+      key_nodes.push_back(int(i));
+    }
+    for (std::size_t r = has_fixed ? 0 : 1; r < run_starts.size(); ++r) {
+      const int at = index[std::size_t(run_starts[r])];
+      if (at >= 0) coarse.run_starts.push_back(at);  // (-1: merged)
+    }
+    // A chain's nodes are placed from its measurements (not their current, possibly strained,
+    // estimates): each node's pose from either end, blended by the covariance up to it.
+    struct Inner {
+      int node;
+      double up_to;              // covariance trace from the chain's start
+      Eigen::Isometry3d T_from;  // measured pose in the start's frame
+    };
+    struct Chain {
+      int from, to;
+      Eigen::Isometry3d T_from_to;
+      double total = 0;
+      std::vector<Inner> inner;
+    };
+    std::vector<Chain> chains;
+    // per interior node: the chain end its loops attach to, and its measured pose there
+    std::vector<std::pair<int, Eigen::Isometry3d>> anchor(n, {-1, Eigen::Isometry3d::Identity()});
+    std::vector<char> used(edges.size(), 0);
+    for (const int k : key_nodes) {
+      for (const int id : node_edges[std::size_t(k)]) {
+        if (used[std::size_t(id)] || !chain_edge(id)) continue;
+        walk(k, id, steps);
+        Chain c{k, steps.back().first, Eigen::Isometry3d::Identity(), 0, {}};
+        Measurement m;
+        int at = k;
+        for (std::size_t s = 0; s < steps.size(); ++s) {
+          const Edge& e = edges[std::size_t(steps[s].second)];
+          used[std::size_t(steps[s].second)] = 1;
+          const Measurement step = e.a == at ? measurement(e) : inverse(measurement(e));
+          m = s == 0 ? step : compose(m, step);
+          c.total += step.C.topLeftCorner<3, 3>().trace();
+          if (s + 1 < steps.size()) c.inner.push_back({steps[s].first, c.total, m.T});
+          at = steps[s].first;
+        }
+        c.T_from_to = m.T;
+        coarse.add_edge(coarse.make_edge(index[std::size_t(c.from)], index[std::size_t(c.to)], m.T,
+                                         m.C, false));
+        for (const Inner& i : c.inner) {
+          anchor[std::size_t(i.node)] =
+              2 * i.up_to < c.total ? std::make_pair(c.from, i.T_from)
+                                    : std::make_pair(c.to, c.T_from_to.inverse() * i.T_from);
+        }
+        if (!c.inner.empty()) chains.push_back(std::move(c));
+      }
+    }
+    // Loops move to the anchors of their ends, composed with the chains' measurements (exact
+    // over a few nodes); a loop within one chain part says nothing at this scale.
+    const auto moved_end = [&](int node) {
+      return anchor[std::size_t(node)].first >= 0
+                 ? anchor[std::size_t(node)]
+                 : std::make_pair(node, Eigen::Isometry3d(Eigen::Isometry3d::Identity()));
+    };
+    for (const Edge& e : edges) {
+      if (!e.active || !e.loop) continue;
+      const auto [a, T_a_ea] = moved_end(e.a);
+      const auto [b, T_b_eb] = moved_end(e.b);
+      if (a == b) continue;
+      Measurement m = measurement(e);
+      Covariance6 J = Covariance6::Identity();
+      J.topLeftCorner<3, 3>() = T_a_ea.rotation();
+      m = compose({T_a_ea * m.T, J * m.C * J.transpose()}, T_b_eb.inverse());
+      coarse.add_edge(
+          coarse.make_edge(index[std::size_t(a)], index[std::size_t(b)], m.T, m.C, true));
+    }
+
+    std::vector<const Edge*> active;
+    for (const Edge& e : edges) {
+      if (e.active) active.push_back(&e);
+    }
+    const auto fine_cost = [&] {
+      double c = 0;
+      for (const Edge* e : active) c += edge_cost(*e);
+      return 0.5 * c;
+    };
+    GraphSolve s;
+    s.cost_before = fine_cost();
+    const GraphSolve inner = coarse.solve(nullptr, kCoarseTolerance);
+    s.ran = true;
+    s.coarse = true;
+    s.iterations = inner.iterations;
+    for (std::size_t j = 0; j < key_nodes.size(); ++j) {
+      nodes[std::size_t(key_nodes[j])] = coarse.nodes[j];
+    }
+    for (const Chain& c : chains) {
+      const Eigen::Isometry3d A = to_pose(nodes[std::size_t(c.from)]);
+      const Eigen::Isometry3d B = to_pose(nodes[std::size_t(c.to)]) * c.T_from_to.inverse();
+      const Eigen::Quaterniond qa(A.rotation()), qb(B.rotation());
+      for (const Inner& i : c.inner) {
+        const double f = c.total > 0 ? i.up_to / c.total : 0.5;
+        Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+        out.linear() =
+            (qa.slerp(f, qb) * Eigen::Quaterniond(i.T_from.rotation())).toRotationMatrix();
+        out.translation() =
+            (1 - f) * (A * i.T_from.translation()) + f * (B * i.T_from.translation());
+        nodes[std::size_t(i.node)] = to_node(out);
+      }
+    }
+    s.cost_after = fine_cost();
+    s.moved_nodes = solved_nodes();
+    s.milliseconds =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    approximate = true;  // (`changed` stays: the caller refines around it)
+    return s;
+  }
+
+  // Solves every node: exactly, or through the coarse graph once it is larger than a
+  // window may grow.
+  GraphSolve solve_all() {
+    return config.coarse_nodes > 0 && solved_nodes() > std::size_t(config.coarse_above_nodes)
+               ? solve_coarse()
+               : solve_whole();
   }
 
   // The nodes within the fewest edges of `changed`, whole layers of a breadth-first search
@@ -332,10 +543,28 @@ struct PoseGraph::Impl {
     for (std::size_t count = std::size_t(config.window_nodes);;) {
       std::size_t size = 0;
       std::vector<char> inside;
-      if (2 * count < solved_nodes()) inside = window(count, size);
+      const bool too_large =
+          config.coarse_nodes > 0 && count > std::size_t(config.coarse_above_nodes);
+      if (2 * count < solved_nodes() && !too_large) inside = window(count, size);
       if (inside.empty() || 2 * size >= solved_nodes()) {
-        add(solve_whole(), solved_nodes());
+        const GraphSolve all = solve_all();
+        add(all, solved_nodes());
         total.whole_graph = true;
+        total.coarse = all.coarse;
+        if (all.coarse) {
+          // What the coarse graph cannot hold (bends shorter than its spacing near what
+          // changed) is solved in the first window, unless that is most of the graph (after
+          // a long stretch without solves).
+          std::size_t refined = 0;
+          inside = window(std::size_t(config.window_nodes), refined);
+          if (2 * refined < solved_nodes()) {
+            const GraphSolve near = solve(&inside);
+            total.iterations += near.iterations;
+            total.milliseconds += near.milliseconds;
+            total.cost_after += near.cost_after - near.cost_before;
+          }
+        }
+        changed.clear();
         return total;
       }
       std::vector<std::pair<const Edge*, Eigen::Matrix<double, 6, 1>>> border;
@@ -379,6 +608,7 @@ struct PoseGraph::Impl {
       s.milliseconds += again.milliseconds;
       s.moved_nodes = std::max(s.moved_nodes, again.moved_nodes);
       s.whole_graph = s.whole_graph || again.whole_graph;
+      s.coarse = s.coarse || again.coarse;
     }
   }
 
@@ -508,10 +738,11 @@ void validate(const PoseGraphConfig& c) {
       !positive(c.odometry_rotation_deg_per_m) || !positive(c.odometry_rotation_min_deg) ||
       !positive(c.loop_translation_m) || !positive(c.loop_rotation_deg) ||
       !positive(c.max_loop_cost) || !positive(c.max_loop_residual) || c.max_iterations < 1 ||
-      c.max_iterations > 10000 || c.window_nodes < 1 || !positive(c.max_border_strain)) {
+      c.max_iterations > 10000 || c.window_nodes < 1 || !positive(c.max_border_strain) ||
+      c.coarse_nodes < 0 || c.coarse_above_nodes < 1) {
     throw std::invalid_argument(
         "pose graph config: sigmas and limits must be finite and > 0, max_iterations in "
-        "[1, 10000], window_nodes >= 1");
+        "[1, 10000], window_nodes and coarse_above_nodes >= 1, coarse_nodes >= 0");
   }
 }
 

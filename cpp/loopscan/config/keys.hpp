@@ -309,6 +309,10 @@ void visit_closure(V& v, Configuration& c) {
     v.key("max_border_strain", g.max_border_strain, above(0, 1e6),
           "the window grows 4x while an edge across its border changed its whitened residual by "
           "more");
+    v.key("coarse_nodes", g.coarse_nodes, closed(0, 100000000),
+          "a window larger than coarse_above_nodes becomes a coarse whole-graph solve over about "
+          "this many nodes (0: never)");
+    v.key("coarse_above_nodes", g.coarse_above_nodes, closed(1, 100000000), "");
   });
 }
 
