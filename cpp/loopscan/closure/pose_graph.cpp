@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -429,17 +430,25 @@ struct PoseGraph::Impl {
                  ? anchor[std::size_t(node)]
                  : std::make_pair(node, Eigen::Isometry3d(Eigen::Isometry3d::Identity()));
     };
+    // Loops that land on the same two nodes are fused into one edge (fewer residuals, the
+    // same information).
+    std::map<std::pair<int, int>, Measurement> loops;
     for (const Edge& e : edges) {
       if (!e.active || !e.loop) continue;
-      const auto [a, T_a_ea] = moved_end(e.a);
-      const auto [b, T_b_eb] = moved_end(e.b);
+      auto [a, T_a_ea] = moved_end(e.a);
+      auto [b, T_b_eb] = moved_end(e.b);
       if (a == b) continue;
       Measurement m = measurement(e);
       Covariance6 J = Covariance6::Identity();
       J.topLeftCorner<3, 3>() = T_a_ea.rotation();
       m = compose({T_a_ea * m.T, J * m.C * J.transpose()}, T_b_eb.inverse());
-      coarse.add_edge(
-          coarse.make_edge(index[std::size_t(a)], index[std::size_t(b)], m.T, m.C, true));
+      if (a > b) std::swap(a, b), m = inverse(m);
+      const auto [at, added] = loops.try_emplace({a, b}, m);
+      if (!added) at->second = fuse(at->second, m);
+    }
+    for (const auto& [ends, m] : loops) {
+      coarse.add_edge(coarse.make_edge(index[std::size_t(ends.first)],
+                                       index[std::size_t(ends.second)], m.T, m.C, true));
     }
 
     std::vector<const Edge*> active;

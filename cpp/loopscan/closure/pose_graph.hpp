@@ -7,7 +7,8 @@
 // Online solves are local: only the nodes within a few edges of what changed move, the rest
 // hold still; the window grows until the edges across its border carry no new strain, so a
 // revisit of a corrected map costs milliseconds at any graph size while the first loop after a
-// long drift still spreads over the whole lap. A node that revisits another can be merged into
+// long drift still spreads over the whole lap (over a coarse graph once the window would be
+// large). A node that revisits another can be merged into
 // it (merge()), so a drive over the same places keeps the solves the size of the area.
 #include <memory>
 #include <vector>
@@ -38,15 +39,15 @@ struct PoseGraphConfig {
   bool incremental = true;
   int window_nodes = 300;
   double max_border_strain = 0.03;
-  // Coarse solves (off by default: coarse_nodes 0): an online solve that would hold more than
-  // `coarse_above_nodes` nodes solves the whole graph over about `coarse_nodes` nodes instead
-  // (evenly spaced nodes of each odometry chain, and every node with a prior, a held pose or
-  // more than two odometry edges; the chains between composed into one edge each, loops moved
-  // to the nearest of these nodes), places the nodes between from their chain's measurements,
-  // then solves the first window around what changed. A first loop after a long drift then
-  // costs tens of milliseconds at 20k keyframes instead of a second; the answer is an
-  // approximation (optimise() and the closers' finish() stay exact).
-  int coarse_nodes = 0;
+  // Coarse solves: an online solve that would hold more than `coarse_above_nodes` nodes solves
+  // the whole graph over about `coarse_nodes` nodes instead (evenly spaced nodes of each
+  // odometry chain, and every node with a prior, a held pose or more than two odometry edges;
+  // the chains between composed into one edge each, loops moved to the nearest of these nodes),
+  // places the nodes between from their chain's measurements, then solves the first window
+  // around what changed. A first loop after a long drift then costs tens of milliseconds at
+  // 20k keyframes instead of a second; the answer is an approximation (optimise() and the
+  // closers' finish() stay exact). coarse_nodes 0: never coarse.
+  int coarse_nodes = 1000;
   int coarse_above_nodes = 1000;
 };
 
