@@ -70,12 +70,17 @@ inline Measurement compose(const Measurement& ab, const Eigen::Isometry3d& T_bc)
   return {ab.T * T_bc, J * ab.C * J.transpose()};
 }
 
+// T_a_c = T_a_b * T_b_c with T_a_b exact.
+inline Measurement compose(const Eigen::Isometry3d& T_ab, const Measurement& bc) {
+  Covariance6 J = Covariance6::Identity();
+  J.topLeftCorner<3, 3>() = T_ab.rotation();
+  return {T_ab * bc.T, J * bc.C * J.transpose()};
+}
+
 // T_a_c = T_a_b * T_b_c, both measured independently.
 inline Measurement compose(const Measurement& ab, const Measurement& bc) {
   Measurement ac = compose(ab, bc.T);
-  Covariance6 J = Covariance6::Identity();
-  J.topLeftCorner<3, 3>() = ab.T.rotation();
-  ac.C += J * bc.C * J.transpose();
+  ac.C += compose(ab.T, bc).C;
   return ac;
 }
 
@@ -292,12 +297,12 @@ struct PoseGraph::Impl {
     return s;
   }
 
-  // The whole graph solved through a coarse one: its nodes are the ends of odometry chains
-  // (nodes with a loop, a prior, a held pose or more than two edges) and every
-  // `coarse_stride`-th node along a chain; its edges the chains' measurements composed. The
-  // nodes between move with the two ends of their chain, blended by the chain's covariance
-  // up to them, which is how a chain's optimum spreads a correction. Costs are the fine
-  // graph's.
+  // The whole graph solved through a coarse one (see PoseGraphConfig::coarse_nodes): its
+  // nodes are the ends of odometry chains (nodes with a prior, a held pose or other than two
+  // odometry edges) and evenly spaced nodes along each chain; its edges the chains'
+  // measurements composed, and the loops moved to these nodes. The nodes between are placed
+  // from their chain's measurements. Costs are the fine graph's. `changed` stays: the caller
+  // refines around it.
   GraphSolve solve_coarse() {
     const auto t0 = std::chrono::steady_clock::now();
     const std::size_t n = nodes.size();
@@ -310,15 +315,14 @@ struct PoseGraph::Impl {
       const Edge& e = edges[std::size_t(id)];
       return e.active && !e.loop;
     };
-    std::vector<char> key(n, 0), interior(n, 0);
+    std::vector<char> key(n, 0);  // (merged nodes are neither key nor interior)
     for (std::size_t i = 0; i < n; ++i) {
       if (merged_into[i] >= 0) continue;
       int ends[3], count = 0;
       for (const int id : node_edges[i]) {
         if (chain_edge(id) && count < 3) ends[count++] = other_end(edges[std::size_t(id)], int(i));
       }
-      interior[i] = !held(i) && !starts_run[i] && count == 2 && ends[0] != ends[1];
-      key[i] = !interior[i];
+      key[i] = held(i) || starts_run[i] || count != 2 || ends[0] == ends[1];
     }
     const auto next_edge = [&](int node, int came_by) {
       for (const int id : node_edges[std::size_t(node)]) {
@@ -326,7 +330,7 @@ struct PoseGraph::Impl {
       }
       return -1;
     };
-    // The interior nodes from `k` along edge `id` to the next key node (`end`).
+    // The interior nodes from `k` along edge `id`, then the next key node.
     const auto walk = [&](int k, int id, std::vector<std::pair<int, int>>& steps) {
       steps.clear();
       int at = k;
@@ -359,10 +363,10 @@ struct PoseGraph::Impl {
       }
     };
     for (std::size_t i = 0; i < n; ++i) {
-      if (key[i] && merged_into[i] < 0) mark_stride(int(i));
+      if (key[i]) mark_stride(int(i));
     }
     for (std::size_t i = 0; i < n; ++i) {  // rings of interior nodes only
-      if (interior[i] && !visited[i] && !key[i]) key[i] = 1, mark_stride(int(i));
+      if (merged_into[i] < 0 && !key[i] && !visited[i]) key[i] = 1, mark_stride(int(i));
     }
 
     Impl coarse;
@@ -371,7 +375,7 @@ struct PoseGraph::Impl {
     std::vector<int> index(n, -1);
     std::vector<int> key_nodes;
     for (std::size_t i = 0; i < n; ++i) {
-      if (!key[i] || merged_into[i] >= 0) continue;
+      if (!key[i]) continue;
       index[i] = coarse.add_node(nodes[i], held(i));
       key_nodes.push_back(int(i));
     }
@@ -438,10 +442,7 @@ struct PoseGraph::Impl {
       auto [a, T_a_ea] = moved_end(e.a);
       auto [b, T_b_eb] = moved_end(e.b);
       if (a == b) continue;
-      Measurement m = measurement(e);
-      Covariance6 J = Covariance6::Identity();
-      J.topLeftCorner<3, 3>() = T_a_ea.rotation();
-      m = compose({T_a_ea * m.T, J * m.C * J.transpose()}, T_b_eb.inverse());
+      Measurement m = compose(compose(T_a_ea, measurement(e)), T_b_eb.inverse());
       if (a > b) std::swap(a, b), m = inverse(m);
       const auto [at, added] = loops.try_emplace({a, b}, m);
       if (!added) at->second = fuse(at->second, m);
@@ -451,17 +452,8 @@ struct PoseGraph::Impl {
                                        index[std::size_t(ends.second)], m.T, m.C, true));
     }
 
-    std::vector<const Edge*> active;
-    for (const Edge& e : edges) {
-      if (e.active) active.push_back(&e);
-    }
-    const auto fine_cost = [&] {
-      double c = 0;
-      for (const Edge* e : active) c += edge_cost(*e);
-      return 0.5 * c;
-    };
     GraphSolve s;
-    s.cost_before = fine_cost();
+    s.cost_before = cost();
     const GraphSolve inner = coarse.solve(nullptr, kCoarseTolerance);
     s.ran = true;
     s.coarse = true;
@@ -483,11 +475,11 @@ struct PoseGraph::Impl {
         nodes[std::size_t(i.node)] = to_node(out);
       }
     }
-    s.cost_after = fine_cost();
+    s.cost_after = cost();
     s.moved_nodes = solved_nodes();
     s.milliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    approximate = true;  // (`changed` stays: the caller refines around it)
+    approximate = true;
     return s;
   }
 
