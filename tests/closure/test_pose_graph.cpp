@@ -2,9 +2,13 @@
 // wrong loop is neutralised, alone or among true ones.
 #include <gtest/gtest.h>
 
+#include <iostream>
 #include <random>
 
+#include <ceres/autodiff_cost_function.h>
+
 #include "loopscan/closure/pose_graph.hpp"
+#include "loopscan/closure/relative_pose_error.hpp"
 #include "loopscan/eval/odometry_metrics.hpp"
 
 namespace loopscan {
@@ -506,6 +510,58 @@ TEST(PoseGraph, MergedLapsLeaveTheGraphTheSizeOfTheArea) {
   const double ate_every = eval::ate_rmse(every.gt, estimate(every.graph));
   EXPECT_LT(eval::ate_rmse(merged.gt, estimate(merged.graph)), 1.1 * ate_every + 0.01) << ate_every;
   EXPECT_LT(largest_difference(merged.graph, every.graph), 0.05);
+}
+
+// The solver's hand-written Jacobians against automatic differentiation of the same residual,
+// at random poses, measurements and whitenings, on and off the unit sphere (the Jacobians are
+// in the quaternions' four coordinates, which the manifold then projects).
+TEST(PoseGraph, HandWrittenJacobiansAreTheAutomaticOnes) {
+  using closure::detail::RelativePoseCost;
+  using closure::detail::RelativePoseError;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> n(0, 1);
+  const auto vec3 = [&](double s) { return Eigen::Vector3d(s * n(rng), s * n(rng), s * n(rng)); };
+  const auto quat = [&](double norm) {
+    Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));
+    q.coeffs() *= norm / q.norm();
+    return q;
+  };
+  double worst = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const Eigen::Vector3d p_ab = vec3(5);
+    const Eigen::Quaterniond q_ab = quat(1);
+    Eigen::Matrix<double, 6, 6> sqrt_info = Eigen::Matrix<double, 6, 6>::Random();
+    sqrt_info.diagonal().array() += 3;
+    const RelativePoseError error{p_ab, q_ab, sqrt_info};
+    const double norm = trial % 2 ? 1.0 : 0.7 + 0.6 * std::uniform_real_distribution<>(0, 1)(rng);
+    Eigen::Vector3d ta = vec3(20), tb = ta + vec3(3);
+    Eigen::Quaterniond qa = quat(norm), qb = quat(norm);
+    const double* x[] = {ta.data(), qa.coeffs().data(), tb.data(), qb.coeffs().data()};
+    const int sizes[] = {3, 4, 3, 4};
+    double r_hand[6], r_auto[6];
+    double j_hand[4][24], j_auto[4][24];
+    double* jh[] = {j_hand[0], j_hand[1], j_hand[2], j_hand[3]};
+    double* ja[] = {j_auto[0], j_auto[1], j_auto[2], j_auto[3]};
+    ASSERT_TRUE(RelativePoseCost(error).Evaluate(x, r_hand, jh));
+    ceres::AutoDiffCostFunction<RelativePoseError, 6, 3, 4, 3, 4> automatic(
+        new RelativePoseError(error));
+    ASSERT_TRUE(automatic.Evaluate(x, r_auto, ja));
+    for (int i = 0; i < 6; ++i)
+      EXPECT_NEAR(r_hand[i], r_auto[i], 1e-12 * (1 + std::abs(r_auto[i])));
+    for (int b = 0; b < 4; ++b) {
+      for (int k = 0; k < 6 * sizes[b]; ++k) {
+        const double scale = 1.0 + std::abs(j_auto[b][k]);
+        worst = std::max(worst, std::abs(j_hand[b][k] - j_auto[b][k]) / scale);
+        ASSERT_NEAR(j_hand[b][k], j_auto[b][k], 1e-10 * scale)
+            << "trial " << trial << ", block " << b << ", entry " << k;
+      }
+    }
+    // Without Jacobians only the residual is computed.
+    double r_only[6];
+    ASSERT_TRUE(RelativePoseCost(error).Evaluate(x, r_only, nullptr));
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(r_only[i], r_hand[i]);
+  }
+  std::cout << "largest relative difference " << worst << "\n";
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <Eigen/Cholesky>
 #include <ceres/ceres.h>
 
+#include "loopscan/closure/relative_pose_error.hpp"
 #include "loopscan/core/rigid_motion.hpp"
 
 namespace loopscan::closure {
@@ -106,26 +107,6 @@ inline Measurement fuse(const Measurement& m1, const Measurement& m2) {
   return out;
 }
 
-// Residual of T_a_b against its measurement: translation in a's frame, 2 * vector part of the
-// rotation difference; whitened.
-struct RelativePoseError {
-  const Edge* e;
-  template <typename T>
-  bool operator()(const T* pa, const T* qa, const T* pb, const T* qb, T* r) const {
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> ta(pa), tb(pb);
-    const Eigen::Map<const Eigen::Quaternion<T>> ra(qa), rb(qb);
-    const Eigen::Quaternion<T> ra_inv = ra.conjugate();
-    const Eigen::Matrix<T, 3, 1> p_est = ra_inv * (tb - ta);
-    const Eigen::Quaternion<T> dq = e->q_ab.template cast<T>().conjugate() * (ra_inv * rb);
-    Eigen::Matrix<T, 6, 1> raw;
-    raw.template head<3>() = p_est - e->p_ab.template cast<T>();
-    raw.template tail<3>() = T(2.0) * dq.vec();
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> res(r);
-    res = e->sqrt_info.template cast<T>() * raw;
-    return true;
-  }
-};
-
 struct PriorError {
   Eigen::Vector3d p0;
   Eigen::Quaterniond q0;
@@ -200,8 +181,9 @@ struct PoseGraph::Impl {
 
   Eigen::Matrix<double, 6, 1> residual(const Edge& e) const {
     Eigen::Matrix<double, 6, 1> r;
-    RelativePoseError{&e}(nodes[std::size_t(e.a)].p, nodes[std::size_t(e.a)].q,
-                          nodes[std::size_t(e.b)].p, nodes[std::size_t(e.b)].q, r.data());
+    RelativePoseError{e.p_ab, e.q_ab, e.sqrt_info}(
+        nodes[std::size_t(e.a)].p, nodes[std::size_t(e.a)].q, nodes[std::size_t(e.b)].p,
+        nodes[std::size_t(e.b)].q, r.data());
     return r;
   }
 
@@ -258,8 +240,7 @@ struct PoseGraph::Impl {
         problem.SetParameterBlockConstant(n.p);
         problem.SetParameterBlockConstant(n.q);
       }
-      auto* f = new ceres::AutoDiffCostFunction<RelativePoseError, 6, 3, 4, 3, 4>(
-          new RelativePoseError{e});
+      auto* f = new RelativePoseCost({e->p_ab, e->q_ab, e->sqrt_info});
       problem.AddResidualBlock(f, nullptr, nodes[std::size_t(e->a)].p, nodes[std::size_t(e->a)].q,
                                nodes[std::size_t(e->b)].p, nodes[std::size_t(e->b)].q);
     }
