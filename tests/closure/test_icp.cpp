@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <tuple>
@@ -292,6 +294,64 @@ TEST(TargetCloud, NearestMatchesBruteForceAndNormalsArePlaneNormals) {
   EXPECT_GT(vertical, ground * 9 / 10);
   EXPECT_THROW(closure::TargetCloud(Points3f{Eigen::Vector3f(NAN, 0, 0)}), std::invalid_argument);
   EXPECT_EQ(closure::TargetCloud(Points3f{}).nearest(Eigen::Vector3f::Zero(), 1.f, nullptr), -1);
+}
+
+// The bounds ICP searches with most (a last correspondence nearby, the fine stages' and the
+// score's distances) are answered by a grid of columns, larger ones by the tree: near the
+// surfaces, on and just off cell borders, below the cloud's corner, in a cloud far from the
+// origin, each answer is the brute-force nearest within the bound.
+TEST(TargetCloud, NearestWithinSmallBoundsIsTheBruteForceNearest) {
+  const Points3f street = closure::voxel_cloud(test::street_scene(5));
+  Points3f far = street;
+  for (Eigen::Vector3f& p : far)
+    p += Eigen::Vector3f(4000.f, -50.f, 3000.f);  // beyond the grid's reach
+  std::mt19937 rng(11);
+  std::normal_distribution<float> jitter(0.f, 0.4f);
+  std::uniform_real_distribution<float> bound_m(0.f, 2.5f);
+  for (const Points3f* pts : std::vector<const Points3f*>{&street, &far}) {
+    const closure::TargetCloud target(*pts);
+    std::uniform_int_distribution<std::size_t> pick(0, pts->size() - 1);
+    Eigen::Vector3f lo =
+        (*pts)[0];  // grids start at the cloud's corner, in cells of whole half metres
+    for (const Eigen::Vector3f& p : *pts) lo = lo.cwiseMin(p);
+    const auto on_border = [](float v, float origin) {
+      return origin + 0.5f * std::round((v - origin) / 0.5f);
+    };
+    int found = 0, empty = 0;
+    for (int i = 0; i < 3000; ++i) {
+      Eigen::Vector3f q =
+          (*pts)[pick(rng)] + Eigen::Vector3f(jitter(rng), jitter(rng), jitter(rng));
+      if (i % 3 == 0) q.x() = on_border(q.x(), lo.x());
+      if (i % 5 == 0)
+        q.z() = std::nextafter(on_border(q.z(), lo.z()), -1e9f);  // just below a border
+      if (i % 11 == 0) q.x() = lo.x() - std::abs(jitter(rng));    // below the grid's origin
+      const float r = i % 7 == 0 ? 0.f : bound_m(rng);
+      const float bound = r * r;
+      float best = std::numeric_limits<float>::infinity();
+      for (const Eigen::Vector3f& p : *pts) best = std::min(best, (q - p).squaredNorm());
+      float d2 = -1;
+      const int j = target.nearest(q, bound, &d2, i % 2 == 0 ? int(pick(rng)) : -1);
+      if (best > bound * (1 + 1e-6f)) {
+        ASSERT_EQ(j, -1) << "query " << i << " bound " << bound << " nearest " << best;
+        ++empty;
+        continue;
+      }
+      if (best < bound * (1 - 1e-6f)) {
+        ASSERT_GE(j, 0) << "query " << i << " bound " << bound << " nearest " << best;
+      }
+      if (j < 0) continue;  // at the bound's edge, either answer is right
+      EXPECT_FLOAT_EQ(d2, (q - (*pts)[std::size_t(j)]).squaredNorm());
+      EXPECT_LE(d2, best * (1 + 1e-6f)) << "query " << i;
+      // The tree (an unbounded search) finds the same point at the same distance, to the bit.
+      float tree_d2 = -1;
+      if (target.nearest(q, std::numeric_limits<float>::max(), &tree_d2) == j) {
+        EXPECT_EQ(d2, tree_d2) << "query " << i;
+      }
+      ++found;
+    }
+    EXPECT_GT(found, 1000);
+    EXPECT_GT(empty, 300);
+  }
 }
 
 }  // namespace
