@@ -7,8 +7,8 @@
 
 #include <ceres/autodiff_cost_function.h>
 
+#include "loopscan/closure/detail/relative_pose_error.hpp"
 #include "loopscan/closure/pose_graph.hpp"
-#include "loopscan/closure/relative_pose_error.hpp"
 #include "loopscan/eval/odometry_metrics.hpp"
 
 namespace loopscan {

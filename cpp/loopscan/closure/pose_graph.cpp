@@ -10,7 +10,7 @@
 #include <Eigen/Cholesky>
 #include <ceres/ceres.h>
 
-#include "loopscan/closure/relative_pose_error.hpp"
+#include "loopscan/closure/detail/relative_pose_error.hpp"
 #include "loopscan/core/rigid_motion.hpp"
 
 namespace loopscan::closure {

@@ -1,6 +1,7 @@
 // The pose graph's edge residual: a measured relative pose T_a_b against the nodes' poses
 // (position + quaternion, x y z w), and the same residual with hand-written Jacobians for the
-// solver (automatic differentiation costs about a third of a solve).
+// solver (automatic differentiation costs about a third of a solve). Not installed (it
+// includes Ceres): the library's and the tests' own.
 #pragma once
 
 #include <ceres/sized_cost_function.h>
