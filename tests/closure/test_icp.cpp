@@ -302,17 +302,16 @@ TEST(TargetCloud, NearestMatchesBruteForceAndNormalsArePlaneNormals) {
 // origin, each answer is the brute-force nearest within the bound.
 TEST(TargetCloud, NearestWithinSmallBoundsIsTheBruteForceNearest) {
   const Points3f street = closure::voxel_cloud(test::street_scene(5));
-  Points3f far = street;
-  for (Eigen::Vector3f& p : far)
-    p += Eigen::Vector3f(4000.f, -50.f, 3000.f);  // beyond the grid's reach
+  Points3f far = street;  // beyond the grid's reach: the tree answers alone
+  for (Eigen::Vector3f& p : far) p += Eigen::Vector3f(4000.f, -50.f, 3000.f);
   std::mt19937 rng(11);
   std::normal_distribution<float> jitter(0.f, 0.4f);
   std::uniform_real_distribution<float> bound_m(0.f, 2.5f);
   for (const Points3f* pts : std::vector<const Points3f*>{&street, &far}) {
     const closure::TargetCloud target(*pts);
     std::uniform_int_distribution<std::size_t> pick(0, pts->size() - 1);
-    Eigen::Vector3f lo =
-        (*pts)[0];  // grids start at the cloud's corner, in cells of whole half metres
+    // The grid starts at the cloud's corner; its cells are a whole number of half metres.
+    Eigen::Vector3f lo = (*pts)[0];
     for (const Eigen::Vector3f& p : *pts) lo = lo.cwiseMin(p);
     const auto on_border = [](float v, float origin) {
       return origin + 0.5f * std::round((v - origin) / 0.5f);
@@ -321,10 +320,10 @@ TEST(TargetCloud, NearestWithinSmallBoundsIsTheBruteForceNearest) {
     for (int i = 0; i < 3000; ++i) {
       Eigen::Vector3f q =
           (*pts)[pick(rng)] + Eigen::Vector3f(jitter(rng), jitter(rng), jitter(rng));
+      // On a border, just below one, below the grid's corner.
       if (i % 3 == 0) q.x() = on_border(q.x(), lo.x());
-      if (i % 5 == 0)
-        q.z() = std::nextafter(on_border(q.z(), lo.z()), -1e9f);  // just below a border
-      if (i % 11 == 0) q.x() = lo.x() - std::abs(jitter(rng));    // below the grid's origin
+      if (i % 5 == 0) q.z() = std::nextafter(on_border(q.z(), lo.z()), -1e9f);
+      if (i % 11 == 0) q.x() = lo.x() - std::abs(jitter(rng));
       const float r = i % 7 == 0 ? 0.f : bound_m(rng);
       const float bound = r * r;
       float best = std::numeric_limits<float>::infinity();
