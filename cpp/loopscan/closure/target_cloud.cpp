@@ -45,7 +45,6 @@ class ColumnIndex {
     z0_ = lo.z();
     nx_ = column(hi.x(), x0_) + 1;
     nz_ = column(hi.z(), z0_) + 1;
-    if (std::size_t(nx_) * std::size_t(nz_) > kMaxColumns) return;  // the tree answers alone
     start_.assign(std::size_t(nx_) * std::size_t(nz_) + 1, 0);
     for (const Eigen::Vector3f& p : points) ++start_[slot(p) + 1];
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
@@ -62,12 +61,12 @@ class ColumnIndex {
     }
   }
 
-  // The nearest point with squared distance <= bound, for a bound within one cell; false
-  // otherwise (and for a far cloud or query): the tree answers instead.
-  bool nearest(const float* q, float bound, std::uint32_t* id, float* d2, bool* found) const {
+  // How many points (0 or 1) lie within the bound, the nearest in id and d2, for a bound
+  // within one cell; -1 otherwise (and for a far cloud or query): the tree answers instead.
+  int nearest(const float* q, float bound, std::uint32_t* id, float* d2) const {
     if (start_.empty() || !(bound >= 0 && bound <= kCell * kCell) || !(std::abs(q[0]) < kReach) ||
         !(std::abs(q[1]) < kReach) || !(std::abs(q[2]) < kReach)) {
-      return false;
+      return -1;
     }
     // Every point within the bound, with a margin over the float rounding of both sides.
     const float r = std::sqrt(bound) * 1.0001f + 1e-4f;
@@ -100,13 +99,12 @@ class ColumnIndex {
       }
     }
     if (any) *d2 = best;
-    *found = any;
-    return true;
+    return any ? 1 : 0;
   }
 
  private:
-  static constexpr float kReach = 1000.0f;  // metres: float rounding stays under the margin
-  static constexpr std::size_t kMaxColumns = std::size_t(1) << 22;
+  // Metres: float rounding stays under the margin, and the grid under a million columns.
+  static constexpr float kReach = 1000.0f;
   struct Entry {
     float x, y, z;
     std::uint32_t id;
@@ -139,8 +137,10 @@ struct TargetCloud::Index {
   // bound as its worst distance so that it prunes every branch beyond it, the rest.
   std::size_t within(const float* query, std::size_t k, float bound, std::uint32_t* ids,
                      float* d2) const {
-    bool found = false;
-    if (k == 1 && columns.nearest(query, bound, ids, d2, &found)) return found ? 1 : 0;
+    if (k == 1) {
+      const int found = columns.nearest(query, bound, ids, d2);
+      if (found >= 0) return std::size_t(found);
+    }
     nanoflann::KNNResultSet<float, std::uint32_t> result(k);
     result.init(ids, d2);
     d2[k - 1] = std::nextafter(bound, std::numeric_limits<float>::infinity());
