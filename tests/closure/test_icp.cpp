@@ -353,6 +353,57 @@ TEST(TargetCloud, NearestWithinSmallBoundsIsTheBruteForceNearest) {
   }
 }
 
+TEST(QueryPlacement, IsWhereTheAlignmentPutsTheQuery) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-30, 30), a(-180, 180), small(-8, 8);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Eigen::Isometry3d T_world_query =
+        pose(a(rng), small(rng), small(rng), {u(rng), u(rng), u(rng)});
+    const Eigen::Isometry3d T_world_place =
+        pose(a(rng), small(rng), small(rng), {u(rng), u(rng), u(rng)});
+    closure::Loop loop;
+    loop.T_query_match = T_world_query.inverse() * T_world_place;
+    loop.overlap = 0.4;
+    const closure::QueryPlacement p = closure::placement(loop, T_world_place, 3);
+    EXPECT_LT((p.position - T_world_query.translation()).norm(), 1e-9);
+    EXPECT_EQ(p.frame, 3);
+    EXPECT_EQ(p.overlap, 0.4);
+  }
+}
+
+TEST(QueryPlacement, AnotherPlaceAsWellAlignedElsewhereMakesItAmbiguous) {
+  closure::VerifyConfig config;  // rival_place_share 1, rival_place_m 3, screen_min_overlap 0.25
+  const closure::QueryPlacement accepted{Eigen::Vector3d(10, 0, 5), 0, 0.40};
+  const auto rival = [&](Eigen::Vector3d offset, int frame, double overlap) {
+    return closure::placed_elsewhere(accepted, {{accepted.position + offset, frame, overlap}},
+                                     config);
+  };
+  EXPECT_TRUE(rival({3.1, 0, 0}, 0, 0.40));   // as well aligned, just beyond 3 m
+  EXPECT_TRUE(rival({0, 0, -6}, 0, 0.55));    // better aligned, 6 m along the track
+  EXPECT_FALSE(rival({2.9, 0, 0}, 0, 0.55));  // better, but where the accepted one puts it
+  EXPECT_FALSE(rival({0, 0, 6}, 0, 0.39));    // elsewhere, but worse aligned
+  EXPECT_FALSE(rival({0, 0, 6}, 1, 0.60));    // a frame not tied to the accepted place's
+  EXPECT_FALSE(closure::placed_elsewhere({accepted.position, -1, 0.4},
+                                         {{accepted.position, -1, 0.9}}, config));
+  EXPECT_FALSE(closure::placed_elsewhere(accepted, {}, config));
+  // A start that screening left coarse (under screen_min_overlap) is no evidence.
+  const closure::QueryPlacement weak{accepted.position, 0, 0.25};
+  EXPECT_FALSE(closure::placed_elsewhere(
+      weak, {{weak.position + Eigen::Vector3d(9, 0, 0), 0, 0.24}}, config));
+  EXPECT_TRUE(closure::placed_elsewhere(weak, {{weak.position + Eigen::Vector3d(9, 0, 0), 0, 0.26}},
+                                        config));
+  // One rival among agreeing ones is enough; 0 m turns the test off.
+  const std::vector<closure::QueryPlacement> others = {
+      {accepted.position + Eigen::Vector3d(1, 0, 0), 0, 0.5},
+      {accepted.position + Eigen::Vector3d(0, 0, 8), 0, 0.5}};
+  EXPECT_TRUE(closure::placed_elsewhere(accepted, others, config));
+  config.rival_place_m = 0;
+  EXPECT_FALSE(closure::placed_elsewhere(accepted, others, config));
+  config.rival_place_m = 3;
+  config.rival_place_share = 1.3;  // 0.5 is under 1.3 x 0.4
+  EXPECT_FALSE(closure::placed_elsewhere(accepted, others, config));
+}
+
 }  // namespace
 }  // namespace loopscan
 

@@ -214,13 +214,9 @@ std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id, lon
   const Eigen::Isometry3d T_world_query = graph_.pose(graph_node_[qi]);
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t index = found[k].second;
-    const PlaceRef place = db_.place(index);
-    const Eigen::Isometry3d T_world_place =
-        place.session == config_.recognition.session
-            ? graph_.pose(graph_node_[pose_index_.at(place.keyframe)])
-            : isometry(*db_.pose(index)).inverse();
+    const Eigen::Isometry3d T_world_place = *place_pose(index);
     Proposal proposal;
-    proposal.candidate.place = place;
+    proposal.candidate.place = db_.place(index);
     proposal.candidate.index = index;
     proposal.candidate.distance = std::numeric_limits<double>::quiet_NaN();
     proposal.predicted = T_world_query.inverse() * T_world_place;
@@ -229,10 +225,29 @@ std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id, lon
   return out;
 }
 
+std::optional<Eigen::Isometry3d> LoopCloser::place_pose(std::size_t index) const {
+  const PlaceRef place = db_.place(index);
+  if (place.session == config_.recognition.session) {
+    return graph_.pose(graph_node_[pose_index_.at(place.keyframe)]);
+  }
+  const std::optional<Pose3x4> T_cam_world = db_.pose(index);
+  if (!T_cam_world) return std::nullopt;
+  return isometry(*T_cam_world).inverse();
+}
+
+QueryPlacement LoopCloser::placement_of(const Loop& loop) {
+  const std::optional<Eigen::Isometry3d> T_world_place = place_pose(loop.place_index);
+  if (loop.match.session == config_.recognition.session) {
+    return placement(loop, *T_world_place, run_of(pose_index_.at(loop.match.keyframe)));
+  }
+  if (!T_world_place || map_run_ < 0) return {};
+  return placement(loop, *T_world_place, root(map_run_));
+}
+
 std::vector<Loop> LoopCloser::verify(const TargetCloud& query, const BirdsEyeGrid* birds_eye,
-                                     int keyframe_id,
-                                     const std::vector<Proposal>& proposals,
-                                     std::size_t& last_place_index) {
+                                     int keyframe_id, const std::vector<Proposal>& proposals,
+                                     std::size_t& last_place_index,
+                                     std::vector<QueryPlacement>& earlier) {
   std::vector<Loop> out;
   for (const Proposal& proposal : proposals) {
     const Candidate& c = proposal.candidate;
@@ -252,6 +267,11 @@ std::vector<Loop> LoopCloser::verify(const TargetCloud& query, const BirdsEyeGri
     loop.match = c.place;
     loop.distance = c.distance;
     loop.place_index = c.index;
+    const QueryPlacement placed = placement_of(loop);
+    if (loop.verdict == Verdict::Accepted && placed_elsewhere(placed, earlier, config_.verify)) {
+      loop.verdict = Verdict::Ambiguous;
+    }
+    earlier.push_back(placed);
     ++times_.verifications;
     out.push_back(loop);
     last_place_index = c.index;
@@ -382,11 +402,12 @@ void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
     std::vector<Proposal> proposals;
     for (const Candidate& c : out.candidates) proposals.push_back({c, std::nullopt});
     const BirdsEyeGrid* grid = birds_eye ? &*birds_eye : nullptr;
-    out.verified = verify(*target, grid, keyframe.id, proposals, index);
+    std::vector<QueryPlacement> earlier;  // where each verified candidate put the query
+    out.verified = verify(*target, grid, keyframe.id, proposals, index, earlier);
     if (out.verified.empty() || out.verified.back().verdict != Verdict::Accepted) {
       const std::vector<Loop> nearby =
           verify(*target, grid, keyframe.id,
-                 nearby_places(keyframe.id, prepared.ordinal, out.candidates), index);
+                 nearby_places(keyframe.id, prepared.ordinal, out.candidates), index, earlier);
       out.verified.insert(out.verified.end(), nearby.begin(), nearby.end());
     }
     if (!out.verified.empty()) {

@@ -197,8 +197,13 @@ class LoopCloser {
   };
   std::vector<Proposal> nearby_places(int keyframe_id, long ordinal,
                                       const std::vector<Candidate>& taken);
+  // A place's pose in the world estimate: the graph's for this session's places, the saved
+  // map's otherwise (none when the map has no poses).
+  std::optional<Eigen::Isometry3d> place_pose(std::size_t index) const;
+  QueryPlacement placement_of(const Loop& loop);  // framed by the root run of its place
   std::vector<Loop> verify(const TargetCloud& query, const BirdsEyeGrid* birds_eye, int keyframe_id,
-                           const std::vector<Proposal>& proposals, std::size_t& last_place_index);
+                           const std::vector<Proposal>& proposals, std::size_t& last_place_index,
+                           std::vector<QueryPlacement>& earlier);
   int root(int run);  // the representative of the runs joined by loops
   int run_of(std::size_t pose_index) { return root(run_[pose_index]); }
   std::vector<Loop> confirm(const Loop& loop, std::size_t place_index);

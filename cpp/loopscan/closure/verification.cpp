@@ -32,12 +32,15 @@ void validate(const VerifyConfig& c) {
       !(c.along_track_seed_m >= 0 && c.along_track_seed_m <= 100) || c.screen_iterations < 1 ||
       !(c.rival_share >= 0 && c.rival_share <= 1) ||
       !(c.ambiguity_share >= 0 && c.ambiguity_share <= 1) ||
-      c.screen_iterations > 1000 || !(c.screen_min_overlap >= 0 && c.screen_min_overlap <= 1)) {
+      !(c.rival_place_m >= 0 && c.rival_place_m <= 1000) ||
+      !(c.rival_place_share >= 0 && c.rival_place_share <= 10) || c.screen_iterations > 1000 ||
+      !(c.screen_min_overlap >= 0 && c.screen_min_overlap <= 1)) {
     throw std::invalid_argument(
         "verify config: min_points in [3, 2^22], min_overlap in [0, 1], max_rmse_m in (0, 100], "
         "min_translation_constraint in [0, 1], max_translation_m in (0, 1000], "
         "along_track_seed_m in [0, 100], screen_iterations in [1, 1000], screen_min_overlap in "
-        "[0, 1], rival_share and ambiguity_share in [0, 1]");
+        "[0, 1], rival_share and ambiguity_share in [0, 1], rival_place_share in [0, 10], "
+        "rival_place_m in [0, 1000]");
   }
 }
 
@@ -70,6 +73,22 @@ Covariance6 loop_covariance(const Loop& loop, const LoopUncertaintyConfig& c) {
   const double r = c.rotation_deg * M_PI / 180.0;
   out.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * (r * r);
   return out;
+}
+
+QueryPlacement placement(const Loop& loop, const Eigen::Isometry3d& T_world_place, int frame) {
+  return {(T_world_place * loop.T_query_match.inverse()).translation(), frame, loop.overlap};
+}
+
+bool placed_elsewhere(const QueryPlacement& accepted, const std::vector<QueryPlacement>& others,
+                      const VerifyConfig& config) {
+  if (!(config.rival_place_m > 0) || accepted.frame < 0) return false;
+  for (const QueryPlacement& o : others) {
+    if (o.frame == accepted.frame && o.overlap >= config.screen_min_overlap &&
+        o.overlap >= config.rival_place_share * accepted.overlap &&
+        (o.position - accepted.position).norm() > config.rival_place_m)
+      return true;
+  }
+  return false;
 }
 
 std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& c) {

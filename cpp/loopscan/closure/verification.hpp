@@ -62,12 +62,35 @@ struct VerifyConfig {
   // The refined rival reaching this share of the best's overlap: the place is ambiguous (a
   // street that slides along itself), not verified.
   double ambiguity_share = 0.9;
+  // Another place of the same keyframe's candidates aligned at least this share of the
+  // accepted one's overlap, putting the query farther than rival_place_m from where the
+  // accepted one puts it (both places in one frame): ambiguous (the closer's test; 0 m: off).
+  double rival_place_share = 1.0;
+  double rival_place_m = 3.0;
   double max_rmse_m = 0.45;
   double min_translation_constraint = 0.004;
   double max_translation_m = 8.0;  // farther apart is not the same place
 };
 
 void validate(const VerifyConfig& config);
+
+// Where a verified alignment puts the query: its place's world pose composed with the inverse
+// of T_query_match. Placements of different frames (VO runs not yet tied, a map not yet joined)
+// are not compared.
+struct QueryPlacement {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  int frame = -1;  // -1: in no frame yet
+  double overlap = 0;
+};
+QueryPlacement placement(const Loop& loop, const Eigen::Isometry3d& T_world_place, int frame);
+
+// True when another alignment of the same query, in the same frame and at least
+// rival_place_share of `accepted`'s overlap, puts the query more than rival_place_m away: the
+// places disagree about where the query is, so neither recognises it (a corridor whose
+// alignments slide along it). Alignments that screening left coarse (overlap below
+// screen_min_overlap) do not count.
+bool placed_elsewhere(const QueryPlacement& accepted, const std::vector<QueryPlacement>& others,
+                      const VerifyConfig& config);
 
 // How far a verified loop's pose may be off, as a model of what its alignment measured
 // (calibrated on the loops of simulated and real drives, docs/loop-closing.md): surfaces seen

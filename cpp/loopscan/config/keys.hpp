@@ -214,6 +214,10 @@ void visit_closure(V& v, Configuration& c) {
           "a rival start is refined when it screened this close to the best");
     v.key("ambiguity_share", f.ambiguity_share, closed(0, 1),
           "a refined rival this close to the best's overlap: ambiguous, refused");
+    v.key("rival_place_share", f.rival_place_share, closed(0, 10),
+          "another candidate place aligned to this share of the accepted one's overlap ...");
+    v.key("rival_place_m", f.rival_place_m, closed(0, 1000),
+          "... that puts the query this far from where it does: ambiguous (0: off)");
     v.key("max_rmse_m", f.max_rmse_m, above(0, 100), "point-to-plane RMS of the inliers");
     v.key("min_translation_constraint", f.min_translation_constraint, closed(0, 1),
           "weakest translation direction (smallest eigenvalue of sum n n^T per inlier)");
