@@ -235,13 +235,16 @@ std::optional<Eigen::Isometry3d> LoopCloser::place_pose(std::size_t index) const
   return isometry(*T_cam_world).inverse();
 }
 
+int LoopCloser::run_of_place(const PlaceRef& place) {
+  if (place.session == config_.recognition.session) return run_of(pose_index_.at(place.keyframe));
+  return map_run_ < 0 ? -1 : root(map_run_);
+}
+
 QueryPlacement LoopCloser::placement_of(const Loop& loop) {
   const std::optional<Eigen::Isometry3d> T_world_place = place_pose(loop.place_index);
-  if (loop.match.session == config_.recognition.session) {
-    return placement(loop, *T_world_place, run_of(pose_index_.at(loop.match.keyframe)));
-  }
-  if (!T_world_place || map_run_ < 0) return {};
-  return placement(loop, *T_world_place, root(map_run_));
+  const int frame = run_of_place(loop.match);
+  if (!T_world_place || frame < 0) return {};
+  return placement(loop, *T_world_place, frame);
 }
 
 std::vector<Loop> LoopCloser::verify(const TargetCloud& query, const BirdsEyeGrid* birds_eye,
@@ -481,9 +484,7 @@ void LoopCloser::join_graph(KeyframeClosure& out) {
     if (!anchored_ && loop.match.session != config_.recognition.session) anchor(loop, a);
     const int b = match_node(loop);
     const int ra = run_of(pose_index_.at(loop.query));
-    const int rb = loop.match.session == config_.recognition.session
-                       ? run_of(pose_index_.at(loop.match.keyframe))
-                       : root(map_run_);
+    const int rb = run_of_place(loop.match);
     run_parent_[std::size_t(std::max(ra, rb))] = std::min(ra, rb);
     int id;
     // A loop the current estimate already agrees with may wait for the next solve; any other

@@ -200,7 +200,9 @@ class LoopCloser {
   // A place's pose in the world estimate: the graph's for this session's places, the saved
   // map's otherwise (none when the map has no poses).
   std::optional<Eigen::Isometry3d> place_pose(std::size_t index) const;
-  QueryPlacement placement_of(const Loop& loop);  // framed by the root run of its place
+  // The root run a place's pose is in: its keyframe's, or the saved map's (-1: no map run).
+  int run_of_place(const PlaceRef& place);
+  QueryPlacement placement_of(const Loop& loop);  // framed by run_of_place
   std::vector<Loop> verify(const TargetCloud& query, const BirdsEyeGrid* birds_eye, int keyframe_id,
                            const std::vector<Proposal>& proposals, std::size_t& last_place_index,
                            std::vector<QueryPlacement>& earlier);
