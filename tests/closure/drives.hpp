@@ -46,6 +46,27 @@ void stream(const Drive& d, PerKeyframe&& f) {
   for_each_keyframe(d.vo.poses, d.vo.points, f);
 }
 
+// The drive with its VO restarted at keyframe index `at`: that keyframe and every later one,
+// their poses and points, in a new frame whose origin is that keyframe's camera (as a VO that
+// lost track and began again would give them).
+inline Drive with_vo_reset(Drive d, std::size_t at) {
+  const KeyframePose& first = d.vo.poses.at(at);
+  Eigen::Isometry3d T_new_world = Eigen::Isometry3d::Identity();
+  T_new_world.linear() = first.T_cam_world.leftCols<3>();
+  T_new_world.translation() = first.T_cam_world.col(3);
+  const int before_id = at > 0 ? d.vo.poses[at - 1].id : -1;  // later points are the new run's
+  for (std::size_t i = at; i < d.vo.poses.size(); ++i) {
+    Eigen::Isometry3d T_cam_world = Eigen::Isometry3d::Identity();
+    T_cam_world.linear() = d.vo.poses[i].T_cam_world.leftCols<3>();
+    T_cam_world.translation() = d.vo.poses[i].T_cam_world.col(3);
+    d.vo.poses[i].T_cam_world = (T_cam_world * T_new_world.inverse()).matrix().topRows<3>();
+  }
+  for (IdPoint& p : d.vo.points) {
+    if (p.id > before_id) p.p_world = T_new_world * p.p_world;
+  }
+  return d;
+}
+
 inline std::vector<Eigen::Vector3d> centres(const std::vector<KeyframePose>& poses) {
   std::vector<Eigen::Vector3d> out;
   for (const KeyframePose& k : poses) {
@@ -65,11 +86,13 @@ struct Closed {
 
 // Runs the closer over a drive and scores it against the ground truth (a revisit: a keyframe
 // within 10 m of one 100 or more keyframes earlier).
-inline Closed close_drive(const Drive& d, const closure::LoopCloserConfig& config) {
+// `reset_id`: the keyframe the VO restarted at (with_vo_reset), told to the closer.
+inline Closed close_drive(const Drive& d, const closure::LoopCloserConfig& config,
+                          int reset_id = -1) {
   closure::LoopCloser closer(config);
   Closed out;
   stream(d, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
-    const closure::KeyframeClosure c = closer.add_keyframe(k, p, n);
+    const closure::KeyframeClosure c = closer.add_keyframe(k, p, n, k.id == reset_id);
     if (c.described && c.linked_place < 0) out.joined.push_back(k.id);
   });
   closer.finish();

@@ -35,14 +35,18 @@ double rotation_error_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b
 
 // Two independent samples of one scene: the target as is, the source seen from T^-1 (so that
 // T_target_source = T), both with 3 cm noise and voxelised.
-std::pair<Points3f, closure::PlaceCloud> two_views(unsigned seed, const Eigen::Isometry3d& T,
-                                                   const test::SceneOptions& o = {}) {
-  const Points3f all = test::street_scene(seed, o);
+std::pair<Points3f, closure::PlaceCloud> two_views_of(const Points3f& all, unsigned seed,
+                                                      const Eigen::Isometry3d& T) {
   Points3f a, b;
   for (std::size_t i = 0; i < all.size(); ++i) (i % 2 ? b : a).push_back(all[i]);
   return {closure::voxel_cloud(test::transformed(a, Eigen::Isometry3d::Identity(), 0.03, seed + 1)),
           closure::to_place_cloud(closure::TargetCloud(
               closure::voxel_cloud(test::transformed(b, T.inverse(), 0.03, seed + 2))))};
+}
+
+std::pair<Points3f, closure::PlaceCloud> two_views(unsigned seed, const Eigen::Isometry3d& T,
+                                                   const test::SceneOptions& o = {}) {
+  return two_views_of(test::street_scene(seed, o), seed, T);
 }
 
 TEST(Icp, RecoversRandomTransformsWithinTheBasin) {
@@ -402,6 +406,58 @@ TEST(QueryPlacement, AnotherPlaceAsWellAlignedElsewhereMakesItAmbiguous) {
   config.rival_place_m = 3;
   config.rival_place_share = 1.3;  // 0.5 is under 1.3 x 0.4
   EXPECT_FALSE(closure::placed_elsewhere(accepted, others, config));
+}
+
+// An alignment slid along the street: the place's near structure fits better where it
+// belongs, 4 or 6 m along the track, than where it was put.
+TEST(SlideRatio, BelowOneAtTheTruePoseAboveWhereTheAlignmentSlid) {
+  for (unsigned seed : {41u, 42u, 43u}) {
+    const Eigen::Isometry3d T = pose(6, 0, 0, Eigen::Vector3d(1.0, 0.0, 2.0));
+    const auto [target_points, place] = two_views(seed, T);
+    const closure::TargetCloud query(target_points);
+    SCOPED_TRACE(seed);
+    EXPECT_LT(closure::slide_ratio(query, place, T), 0.95);
+    for (double slid : {-6.0, -4.0, 4.0, 6.0}) {
+      Eigen::Isometry3d wrong = T;
+      wrong.translation().z() += slid;
+      EXPECT_GT(closure::slide_ratio(query, place, wrong), 1.1) << slid << " m";
+    }
+  }
+  // Too little structure near the query: no verdict either way.
+  const auto [target_points, place] = two_views(41, Eigen::Isometry3d::Identity());
+  Eigen::Isometry3d away = Eigen::Isometry3d::Identity();
+  away.translation().x() = 200;
+  EXPECT_TRUE(std::isnan(closure::slide_ratio(closure::TargetCloud(target_points), place, away)));
+}
+
+// A street whose near stretch is bare facades and whose poles and parked cars are all over
+// 20 m away: the far objects pin the alignment, the near structure would fit as well anywhere
+// along the track, so the alignment is refused as ambiguous unless the slide test is off.
+TEST(SlideRatio, NearStructureThatFitsAnywhereAlongTheTrackIsAmbiguous) {
+  test::SceneOptions bare;
+  bare.poles_and_boxes = false;
+  bare.facade_recesses = false;
+  bare.length_m = 40;
+  bare.points = 12000;
+  Points3f all = test::street_scene(51, bare);
+  for (unsigned seed : {52u, 53u, 54u}) {
+    for (const Eigen::Vector3f& p : test::street_scene(seed)) {
+      if (std::abs(p.z()) > 20 && std::abs(p.x()) < 8.5) all.push_back(p);
+    }
+  }
+  const Eigen::Isometry3d T = pose(2, 0, 0, Eigen::Vector3d(0.5, 0, 1.0));
+  const auto [target_points, place] = two_views_of(all, 51, T);
+  const closure::TargetCloud query(target_points);
+  closure::VerifyConfig config;
+  config.slide_share = 0.97;  // the bare facades score alike at every shift, up to sampling
+  EXPECT_GT(closure::slide_ratio(query, place, T, config), 0.97);
+  EXPECT_EQ(closure::verify_candidate(query, place, {closure::yaw_rotation(0.0)}, config).verdict,
+            closure::Verdict::Ambiguous);
+  config.slide_share = 0;
+  const closure::Loop off =
+      closure::verify_candidate(query, place, {closure::yaw_rotation(0.0)}, config);
+  EXPECT_EQ(off.verdict, closure::Verdict::Accepted) << closure::to_string(off.verdict);
+  EXPECT_LT((off.T_query_match.translation() - T.translation()).norm(), 0.1);
 }
 
 }  // namespace

@@ -103,6 +103,36 @@ TEST(LoopCloser, NeverWorseOnANearlyDriftFreeDrive) {
   }
 }
 
+// The VO restarts in a new frame some 40 keyframes before the block's first street is driven
+// again. The scan builds up again for 30 of them, which the query's band of recent places
+// counts (it counts keyframes, not places), so the places before the reset are searchable by
+// the revisit, which ties the two runs into one frame: no false loop, and both halves of the
+// drive corrected together.
+TEST(LoopCloser, AVoResetBeforeTheRevisitReanchorsAtIt) {
+  const Drive& d = summer();
+  std::size_t first_revisit = 0;
+  for (std::size_t i = 100; i < d.vo.poses.size() && first_revisit == 0; ++i) {
+    const Eigen::Vector3d p = d.route.T_world_cam[std::size_t(d.vo.poses[i].id)].translation();
+    for (std::size_t j = 0; j + 100 <= i; ++j) {
+      if ((d.route.T_world_cam[std::size_t(d.vo.poses[j].id)].translation() - p).norm() <= 10) {
+        first_revisit = i;
+        break;
+      }
+    }
+  }
+  ASSERT_GT(first_revisit, 100u);
+  const std::size_t at = first_revisit - 40;
+  const Drive reset = test::with_vo_reset(d, at);
+  const closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  const Closed c = close_drive(reset, config, reset.vo.poses[at].id);
+  const Closed plain = close_drive(d, config);
+  EXPECT_EQ(c.false_loops, 0) << c.false_list;
+  EXPECT_GT(c.ate_before, 10.0);  // the two runs in unrelated frames
+  EXPECT_LT(c.ate_after, 2.0) << c.ate_before << " -> " << c.ate_after;
+  EXPECT_GE(c.closed, plain.closed / 2)
+      << c.closed << " of " << c.revisits << " (without the reset " << plain.closed << ")";
+}
+
 // The same block driven three times: the later laps link to the places the earlier ones left
 // instead of copying them (their graph nodes merge into the places'), and close as many
 // revisits, as accurately, as a map and graph of every copy would.

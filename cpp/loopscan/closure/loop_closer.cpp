@@ -307,6 +307,7 @@ PreparedKeyframe LoopCloser::begin_keyframe(const KeyframePose& keyframe, bool r
   }
   ++times_.keyframes;
   PreparedKeyframe prepared;
+  prepared.ordinal = prepared_keyframes_++;
   prepared.keyframe = orthonormalised(keyframe);
   prepared.reset = reset;
   prepared.out.keyframe = keyframe.id;
@@ -359,7 +360,6 @@ void LoopCloser::describe_and_query(const Cloud& scan, PreparedKeyframe& prepare
                                         config_.recognition.descriptors, &prepared.place.frame);
   }
   prepared.out.described = true;
-  prepared.ordinal = prepared_described_++;
   const ScopedTimer timer(times_.query);
   const std::shared_lock lock(*db_mutex_);
   // Keyframes prepared but not integrated yet have no place: the band counts keyframes, so a

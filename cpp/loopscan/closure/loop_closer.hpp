@@ -118,7 +118,9 @@ struct PreparedKeyframe {
   KeyframePose keyframe;  // orthonormalised
   bool reset = false;
   bool has_scan = false;
-  long ordinal = -1;  // among described keyframes (has_scan), from 0
+  // Among all keyframes given, from 0: the keyframes a VO reset leaves undescribed (the scan
+  // building up again) count, so the places just before the reset leave the recent band.
+  long ordinal = -1;
   PlaceDescriptor place;
   Points3f raw;  // the scan's points in range, unfiltered: the cloud verification aligns
   KeyframeClosure out;
@@ -186,7 +188,7 @@ class LoopCloser {
   int add_graph_node(const KeyframePose& keyframe, bool reset);
   PreparedKeyframe begin_keyframe(const KeyframePose& keyframe, bool reset);
   void describe_and_query(const Cloud& scan, PreparedKeyframe& prepared);
-  // The query's band of recent places: those of the last exclude_recent described keyframes
+  // The query's band of recent places: those of the last exclude_recent keyframes
   // (their count, at the end of the database, when the keyframe of this ordinal is queried).
   long recent_places(long ordinal) const;
   // Steps 4-7 of a described keyframe: cloud, verify, confirm, join the graph and the map.
@@ -223,7 +225,7 @@ class LoopCloser {
   // under a shared lock; integrate() adds to it under the exclusive one.
   ScanImitator imitator_;
   std::unordered_set<int> prepared_ids_;
-  long prepared_described_ = 0;
+  long prepared_keyframes_ = 0;
   std::unique_ptr<std::shared_mutex> db_mutex_ = std::make_unique<std::shared_mutex>();
   Database db_;
   std::vector<long> place_ordinal_;  // per database place: its keyframe's ordinal

@@ -67,6 +67,13 @@ struct VerifyConfig {
   // accepted one puts it (both places in one frame): ambiguous (the closer's test; 0 m: off).
   double rival_place_share = 1.0;
   double rival_place_m = 3.0;
+  // The place's near structure (within slide_near_m of the query, across the ground) moved
+  // +-slide_shift_m and +-1.5 slide_shift_m along the query's track: fitting there at least
+  // slide_share as well as where it was aligned, the alignment slid along a street that only
+  // far structure held (ambiguous; 0 m: off).
+  double slide_shift_m = 4.0;
+  double slide_near_m = 15.0;
+  double slide_share = 1.0;
   double max_rmse_m = 0.45;
   double min_translation_constraint = 0.004;
   double max_translation_m = 8.0;  // farther apart is not the same place
@@ -91,6 +98,12 @@ QueryPlacement placement(const Loop& loop, const Eigen::Isometry3d& T_world_plac
 // screen_min_overlap) do not count.
 bool placed_elsewhere(const QueryPlacement& accepted, const std::vector<QueryPlacement>& others,
                       const VerifyConfig& config);
+
+// The best overlap of the place's near structure moved along the query's track (slide_shift_m,
+// 1.5 slide_shift_m, both ways) divided by its overlap at T_query_match; NaN when fewer than
+// min_points / 2 structure points are near or none is an inlier at T_query_match.
+double slide_ratio(const TargetCloud& query, const PlaceCloud& place,
+                   const Eigen::Isometry3d& T_query_match, const VerifyConfig& config = {});
 
 // How far a verified loop's pose may be off, as a model of what its alignment measured
 // (calibrated on the loops of simulated and real drives, docs/loop-closing.md): surfaces seen
