@@ -3,11 +3,14 @@
 // corrected poses that is consistent whenever it is read.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <thread>
+#include <type_traits>
 
+#include "closure/drives.hpp"
 #include "loopscan/closure/background_closer.hpp"
 #include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/sim/trajectory.hpp"
@@ -108,6 +111,46 @@ TEST(BackgroundLoopCloser, WaitingForASlotGivesTheSynchronousResults) {
     EXPECT_GT(background.queue().waits, 0);  // the slow worker made the caller wait
     EXPECT_TRUE(background.poll().empty());  // closures went to the callback
   }
+}
+
+// The same across a VO reset, whose 30 scanless keyframes (the scan building up again) and the
+// queue together would outnumber a band of 20 recent keyframes: waiting, every keyframe takes a
+// slot, so the keyframes not yet integrated stay within the band and a query sees the same
+// places.
+TEST(BackgroundLoopCloser, WaitingGivesTheSynchronousResultsAcrossAVoReset) {
+  const test::Drive d = test::with_vo_reset(test::drive(sim::Season::Summer, 1), 90);
+  const int reset_id = d.vo.poses[90].id;
+  LoopCloserConfig config = LoopCloserConfig::make(Method::ScanContext);
+  config.recognition.query.exclude_recent = 20;
+  int most_waiting = 0;  // keyframes queued or being integrated, after each add_keyframe
+  const auto run = [&](auto& closer) {
+    for_each_keyframe(
+        d.vo.poses, d.vo.points, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+          closer.add_keyframe(k, p, n, k.id == reset_id);
+          if constexpr (std::is_same_v<std::decay_t<decltype(closer)>, BackgroundLoopCloser>) {
+            most_waiting = std::max(most_waiting, closer.queue().waiting);
+          }
+        });
+    closer.finish();
+  };
+  LoopCloser sync(config);
+  run(sync);
+  ASSERT_GE(accepted(sync.loops()), 3);
+  BackgroundConfig bc;
+  bc.queue_capacity = 4;
+  bc.when_full = BackgroundConfig::WhenFull::Wait;
+  BackgroundLoopCloser background(config, bc);
+  background.set_on_closed([&](const KeyframeClosure&) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));  // a worker far behind
+  });
+  run(background);
+  // The worker sleeps through the reset's scanless keyframes: they wait for slots too.
+  EXPECT_LE(most_waiting, bc.queue_capacity + 1);
+  EXPECT_GT(background.queue().waits, 30);
+  EXPECT_TRUE(same_loops(sync.loops(), background.loops()));
+  const std::vector<KeyframePose> a = sync.corrected_poses(), b = background.corrected_poses();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].T_cam_world, b[i].T_cam_world);
 }
 
 // With a worker far slower than the keyframes and a queue of 2, the caller never waits: the

@@ -411,8 +411,9 @@ TEST(QueryPlacement, AnotherPlaceAsWellAlignedElsewhereMakesItAmbiguous) {
 // An alignment slid along the street: the place's near structure fits better where it
 // belongs, 4 or 6 m along the track, than where it was put.
 TEST(SlideRatio, BelowOneAtTheTruePoseAboveWhereTheAlignmentSlid) {
-  for (unsigned seed : {41u, 42u, 43u}) {
-    const Eigen::Isometry3d T = pose(6, 0, 0, Eigen::Vector3d(1.0, 0.0, 2.0));
+  for (const auto& [seed, yaw_deg] : {std::pair{41u, 6.0}, {42u, 35.0}, {43u, 180.0}}) {
+    // (Along the query's track: at 35 and 180 degrees the place's own axis is another.)
+    const Eigen::Isometry3d T = pose(yaw_deg, 0, 0, Eigen::Vector3d(1.0, 0.0, 2.0));
     const auto [target_points, place] = two_views(seed, T);
     const closure::TargetCloud query(target_points);
     SCOPED_TRACE(seed);

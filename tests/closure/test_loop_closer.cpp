@@ -105,10 +105,10 @@ TEST(LoopCloser, NeverWorseOnANearlyDriftFreeDrive) {
 
 // The VO restarts in a new frame some 40 keyframes before the block's first street is driven
 // again. The scan builds up again for 30 of them, which the query's band of recent places
-// counts (it counts keyframes, not places), so the places before the reset are searchable by
-// the revisit, which ties the two runs into one frame: no false loop, and both halves of the
-// drive corrected together.
-TEST(LoopCloser, AVoResetBeforeTheRevisitReanchorsAtIt) {
+// counts (every keyframe given, described or not), so the places before the reset are
+// searchable by the revisit, which ties the two runs into one frame: no false loop, and both
+// halves of the drive corrected together.
+TEST(LoopCloser, AVoResetBeforeTheRevisitTiesBothRunsAtIt) {
   const Drive& d = summer();
   std::size_t first_revisit = 0;
   for (std::size_t i = 100; i < d.vo.poses.size() && first_revisit == 0; ++i) {

@@ -67,11 +67,16 @@ KeyframeClosure BackgroundLoopCloser::enqueue(PreparedKeyframe prepared) {
     std::unique_lock lock(mutex_);
     rethrow_worker_error();
     stats_.last_wait_ms = 0;
-    if (holds_place(prepared) && full_entries_ >= background_.queue_capacity) {
-      if (background_.when_full == BackgroundConfig::WhenFull::Wait) {
+    // Waiting, every keyframe takes a slot: the query's band of recent places counts every
+    // keyframe given, so a run of scanless ones (after a VO reset) must not lengthen the span
+    // of keyframes not yet integrated past it.
+    const bool wait = background_.when_full == BackgroundConfig::WhenFull::Wait;
+    const auto taken = [&] { return wait ? int(queue_.size()) : full_entries_; };
+    if ((wait || holds_place(prepared)) && taken() >= background_.queue_capacity) {
+      if (wait) {
         const auto start = std::chrono::steady_clock::now();
-        slot_free_.wait(
-            lock, [&] { return error_ || stop_ || full_entries_ < background_.queue_capacity; });
+        slot_free_.wait(lock,
+                        [&] { return error_ || stop_ || taken() < background_.queue_capacity; });
         rethrow_worker_error();
         stats_.last_wait_ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)

@@ -18,8 +18,9 @@
 namespace loopscan::closure {
 
 struct BackgroundConfig {
-  // Keyframes prepared but not yet taken by the worker. At a keyframe a second the worker is
-  // behind only during a long graph solve; replaying a recording is another matter (WhenFull).
+  // Keyframes prepared but not yet taken by the worker (SkipVerification: those holding a
+  // place; Wait: all). At a keyframe a second the worker is behind only during a long graph
+  // solve; replaying a recording is another matter (WhenFull).
   int queue_capacity = 32;
   enum class WhenFull {
     // The oldest waiting keyframe drops its place: it still joins the graph (its odometry edge),

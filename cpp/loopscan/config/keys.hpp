@@ -185,7 +185,7 @@ void visit_closure(V& v, Configuration& c) {
   v.section("background", "close, slam: verification and graph solves on a worker thread", [&] {
     v.key("enabled", c.closure.background, "false: everything on the caller's thread");
     v.key("queue_capacity", c.closure.queue_capacity, closed(1, 1e5),
-          "described keyframes waiting for the worker; the reader waits beyond this");
+          "keyframes waiting for the worker; the reader waits beyond this");
   });
   v.section("cloud", "each place's cloud for verification", [&] {
     v.key("voxel_m", l.cloud.voxel_m, closed(0.01, 10), "one point (the centroid) per voxel");
