@@ -50,21 +50,34 @@ void stream(const Drive& d, PerKeyframe&& f) {
 // their poses and points, in a new frame whose origin is that keyframe's camera (as a VO that
 // lost track and began again would give them).
 inline Drive with_vo_reset(Drive d, std::size_t at) {
-  const KeyframePose& first = d.vo.poses.at(at);
-  Eigen::Isometry3d T_new_world = Eigen::Isometry3d::Identity();
-  T_new_world.linear() = first.T_cam_world.leftCols<3>();
-  T_new_world.translation() = first.T_cam_world.col(3);
+  const Eigen::Isometry3d T_new_world = closure::isometry(d.vo.poses.at(at).T_cam_world);
   const int before_id = at > 0 ? d.vo.poses[at - 1].id : -1;  // later points are the new run's
   for (std::size_t i = at; i < d.vo.poses.size(); ++i) {
-    Eigen::Isometry3d T_cam_world = Eigen::Isometry3d::Identity();
-    T_cam_world.linear() = d.vo.poses[i].T_cam_world.leftCols<3>();
-    T_cam_world.translation() = d.vo.poses[i].T_cam_world.col(3);
-    d.vo.poses[i].T_cam_world = (T_cam_world * T_new_world.inverse()).matrix().topRows<3>();
+    d.vo.poses[i].T_cam_world =
+        (closure::isometry(d.vo.poses[i].T_cam_world) * T_new_world.inverse())
+            .matrix()
+            .topRows<3>();
   }
   for (IdPoint& p : d.vo.points) {
     if (p.id > before_id) p.p_world = T_new_world * p.p_world;
   }
   return d;
+}
+
+// The drive's ground-truth camera centres, one per keyframe.
+inline std::vector<Eigen::Vector3d> truth(const Drive& d) {
+  std::vector<Eigen::Vector3d> gt;
+  for (const KeyframePose& k : d.vo.poses)
+    gt.push_back(d.route.T_world_cam[std::size_t(k.id)].translation());
+  return gt;
+}
+
+// A revisit: keyframe i within 10 m of one 100 or more keyframes earlier.
+inline bool is_revisit(const std::vector<Eigen::Vector3d>& gt, std::size_t i) {
+  for (std::size_t j = 0; j + 100 <= i; ++j) {
+    if ((gt[i] - gt[j]).norm() <= 10.0) return true;
+  }
+  return false;
 }
 
 inline std::vector<Eigen::Vector3d> centres(const std::vector<KeyframePose>& poses) {
@@ -84,8 +97,7 @@ struct Closed {
   std::vector<double> whitened;  // per accepted loop: |translation error| in its covariance
 };
 
-// Runs the closer over a drive and scores it against the ground truth (a revisit: a keyframe
-// within 10 m of one 100 or more keyframes earlier).
+// Runs the closer over a drive and scores it against the ground truth (revisits: is_revisit).
 // `reset_id`: the keyframe the VO restarted at (with_vo_reset), told to the closer.
 inline Closed close_drive(const Drive& d, const closure::LoopCloserConfig& config,
                           int reset_id = -1) {
@@ -99,9 +111,7 @@ inline Closed close_drive(const Drive& d, const closure::LoopCloserConfig& confi
   out.map_places = closer.database().size();
   out.graph_nodes = closer.times().graph_nodes;
   out.graph_edges = closer.times().graph_edges;
-  std::vector<Eigen::Vector3d> gt;
-  for (const KeyframePose& k : d.vo.poses)
-    gt.push_back(d.route.T_world_cam[std::size_t(k.id)].translation());
+  const std::vector<Eigen::Vector3d> gt = truth(d);
   out.ate_before = eval::aligned_rmse(gt, centres(d.vo.poses));
   out.ate_after = eval::aligned_rmse(gt, centres(closer.corrected_poses()));
   std::set<int> closed_queries;
@@ -124,8 +134,7 @@ inline Closed close_drive(const Drive& d, const closure::LoopCloserConfig& confi
     out.whitened.push_back(std::sqrt(error.dot(cov.ldlt().solve(error))));
   }
   for (std::size_t i = 0; i < d.vo.poses.size(); ++i) {
-    bool revisit = false;
-    for (std::size_t j = 0; j + 100 <= i && !revisit; ++j) revisit = (gt[i] - gt[j]).norm() <= 10.0;
+    const bool revisit = is_revisit(gt, i);
     out.revisits += revisit;
     out.closed += revisit && closed_queries.count(d.vo.poses[i].id);
   }

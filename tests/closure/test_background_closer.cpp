@@ -26,28 +26,11 @@ using closure::KeyframeClosure;
 using closure::LoopCloser;
 using closure::LoopCloserConfig;
 
-struct Drive {
-  sim::Trajectory route;
-  sim::VoOutput vo;
-};
+using test::Drive;
 
 // The short built-in route (a block and its first street again) with a 2 % drifting VO.
 const Drive& drive() {
-  static const Drive d = [] {
-    Drive out{sim::make_builtin_trajectory("short"), {}};
-    sim::WorldConfig wc;
-    wc.seed = 1;
-    const sim::World world = sim::World::build(sim::lap_streets(out.route, 1), wc);
-    sim::Conditions conditions = sim::Conditions::for_season(sim::Season::Summer);
-    conditions.session_seed = 1;
-    sim::VoSimConfig vo;
-    vo.seed = conditions.noise_seed(wc.seed);
-    vo.drift_translation_per_m = 0.02;
-    vo.drift_rotation_deg_per_m = 0.06;
-    out.vo = sim::simulate_vo(out.route, sim::select_keyframes(out.route), world, conditions,
-                              sim::StereoCamera{}, vo);
-    return out;
-  }();
+  static const Drive d = test::drive(sim::Season::Summer, 1);
   return d;
 }
 
@@ -118,7 +101,7 @@ TEST(BackgroundLoopCloser, WaitingForASlotGivesTheSynchronousResults) {
 // slot, so the keyframes not yet integrated stay within the band and a query sees the same
 // places.
 TEST(BackgroundLoopCloser, WaitingGivesTheSynchronousResultsAcrossAVoReset) {
-  const test::Drive d = test::with_vo_reset(test::drive(sim::Season::Summer, 1), 90);
+  const Drive d = test::with_vo_reset(drive(), 90);
   const int reset_id = d.vo.poses[90].id;
   LoopCloserConfig config = LoopCloserConfig::make(Method::ScanContext);
   config.recognition.query.exclude_recent = 20;

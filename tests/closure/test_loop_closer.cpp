@@ -31,9 +31,7 @@ TEST(LoopCloser, ClosesADriftedBlockWithTrueLoopsOnly) {
     closer.add_keyframe(k, p, n);
   });
   closer.finish();
-  std::vector<Eigen::Vector3d> gt;
-  for (const KeyframePose& k : d.vo.poses)
-    gt.push_back(d.route.T_world_cam[std::size_t(k.id)].translation());
+  const std::vector<Eigen::Vector3d> gt = test::truth(d);
   const double before = eval::aligned_rmse(gt, centres(d.vo.poses));
   const double after = eval::aligned_rmse(gt, centres(closer.corrected_poses()));
   int accepted = 0;
@@ -110,16 +108,9 @@ TEST(LoopCloser, NeverWorseOnANearlyDriftFreeDrive) {
 // halves of the drive corrected together.
 TEST(LoopCloser, AVoResetBeforeTheRevisitTiesBothRunsAtIt) {
   const Drive& d = summer();
+  const std::vector<Eigen::Vector3d> gt = test::truth(d);
   std::size_t first_revisit = 0;
-  for (std::size_t i = 100; i < d.vo.poses.size() && first_revisit == 0; ++i) {
-    const Eigen::Vector3d p = d.route.T_world_cam[std::size_t(d.vo.poses[i].id)].translation();
-    for (std::size_t j = 0; j + 100 <= i; ++j) {
-      if ((d.route.T_world_cam[std::size_t(d.vo.poses[j].id)].translation() - p).norm() <= 10) {
-        first_revisit = i;
-        break;
-      }
-    }
-  }
+  while (first_revisit < gt.size() && !test::is_revisit(gt, first_revisit)) ++first_revisit;
   ASSERT_GT(first_revisit, 100u);
   const std::size_t at = first_revisit - 40;
   const Drive reset = test::with_vo_reset(d, at);

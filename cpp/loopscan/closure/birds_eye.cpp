@@ -12,10 +12,6 @@ namespace {
 
 int shift_cells(const BirdsEyeConfig& c) { return int(std::ceil(c.max_shift_m / c.cell_m)); }
 
-bool in_range(const Eigen::Vector3f& p, double max_range_m) {
-  return double(p.x()) * p.x() + double(p.z()) * p.z() <= max_range_m * max_range_m;
-}
-
 struct Peak {
   double score;
   Eigen::Isometry3d T;
@@ -27,6 +23,10 @@ Eigen::Isometry3d yaw_rotation(double yaw_rad) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d(0, -1, 0)).toRotationMatrix();
   return T;
+}
+
+bool within_ground_range(const Eigen::Vector3f& p, double range_m) {
+  return double(p.x()) * p.x() + double(p.z()) * p.z() <= range_m * range_m;
 }
 
 double yaw_of(const Eigen::Isometry3d& T) {
@@ -57,7 +57,7 @@ BirdsEyeGrid::BirdsEyeGrid(const PlaceCloud& query, const BirdsEyeConfig& config
   std::vector<float> count(std::size_t(n_) * std::size_t(n_), 0.0f);
   for (std::size_t i = 0; i < query.structure && i < query.points.size(); ++i) {
     const Eigen::Vector3f& p = query.points[i];
-    if (!p.allFinite() || !in_range(p, config.max_range_m)) continue;
+    if (!p.allFinite() || !within_ground_range(p, config.max_range_m)) continue;
     const Eigen::Vector2i c = cell(p.x(), p.z());
     count[std::size_t(c.x()) * std::size_t(n_) + std::size_t(c.y())] += 1.0f;
   }
@@ -92,7 +92,7 @@ std::vector<BirdsEyePose> birds_eye_search(const BirdsEyeGrid& query, const Plac
   Points3f structure;
   for (std::size_t i = 0; i < place.structure && i < place.points.size(); ++i) {
     const Eigen::Vector3f& p = place.points[i];
-    if (p.allFinite() && in_range(p, config.max_range_m)) structure.push_back(p);
+    if (p.allFinite() && within_ground_range(p, config.max_range_m)) structure.push_back(p);
   }
   if (structure.empty()) return {};
   const int half_yaws = int(std::floor(config.yaw_window_deg / config.yaw_step_deg + 1e-9));

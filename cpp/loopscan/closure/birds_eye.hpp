@@ -17,6 +17,8 @@ namespace loopscan::closure {
 Eigen::Isometry3d yaw_rotation(double yaw_rad);
 // The yaw of a pose about the up axis (radians): a loop's heading difference.
 double yaw_of(const Eigen::Isometry3d& T);
+// A camera-frame point within range_m of the camera across the ground (x, z; height ignored).
+bool within_ground_range(const Eigen::Vector3f& p, double range_m);
 
 struct BirdsEyeConfig {
   bool enabled = false;          // true: a nearby place's ICP starts from it (not yet the default)

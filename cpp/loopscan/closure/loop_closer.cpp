@@ -305,9 +305,8 @@ PreparedKeyframe LoopCloser::begin_keyframe(const KeyframePose& keyframe, bool r
     throw std::invalid_argument("loop closer: keyframe id " + std::to_string(keyframe.id) +
                                 " given twice");
   }
-  ++times_.keyframes;
   PreparedKeyframe prepared;
-  prepared.ordinal = prepared_keyframes_++;
+  prepared.ordinal = times_.keyframes++;
   prepared.keyframe = orthonormalised(keyframe);
   prepared.reset = reset;
   prepared.out.keyframe = keyframe.id;

@@ -225,7 +225,6 @@ class LoopCloser {
   // under a shared lock; integrate() adds to it under the exclusive one.
   ScanImitator imitator_;
   std::unordered_set<int> prepared_ids_;
-  long prepared_keyframes_ = 0;
   std::unique_ptr<std::shared_mutex> db_mutex_ = std::make_unique<std::shared_mutex>();
   Database db_;
   std::vector<long> place_ordinal_;  // per database place: its keyframe's ordinal

@@ -36,7 +36,7 @@ void validate(const VerifyConfig& c) {
       !(c.ambiguity_share >= 0 && c.ambiguity_share <= 1) ||
       !(c.rival_place_m >= 0 && c.rival_place_m <= 1000) ||
       !(c.rival_place_share >= 0 && c.rival_place_share <= 10) || c.screen_iterations > 1000 ||
-      !(c.slide_shift_m >= 0 && c.slide_shift_m <= 100) ||
+      !(c.slide_shift_m > 0 && c.slide_shift_m <= 100) ||
       !(c.slide_near_m > 0 && c.slide_near_m <= 1000) ||
       !(c.slide_share >= 0 && c.slide_share <= 10) ||
       !(c.screen_min_overlap >= 0 && c.screen_min_overlap <= 1)) {
@@ -45,7 +45,7 @@ void validate(const VerifyConfig& c) {
         "min_translation_constraint in [0, 1], max_translation_m in (0, 1000], "
         "along_track_seed_m in [0, 100], screen_iterations in [1, 1000], screen_min_overlap in "
         "[0, 1], rival_share and ambiguity_share in [0, 1], rival_place_share in [0, 10], "
-        "rival_place_m in [0, 1000], slide_shift_m in [0, 100], slide_near_m in (0, 1000], "
+        "rival_place_m in [0, 1000], slide_shift_m in (0, 100], slide_near_m in (0, 1000], "
         "slide_share in [0, 10]");
   }
 }
@@ -101,11 +101,10 @@ double slide_ratio(const TargetCloud& query, const PlaceCloud& place,
                    const Eigen::Isometry3d& T_query_match, const VerifyConfig& config) {
   const Eigen::Matrix3f R = T_query_match.linear().cast<float>();
   const Eigen::Vector3f t = T_query_match.translation().cast<float>();
-  const float reach2 = float(config.slide_near_m * config.slide_near_m);
   Points3f near;
   for (std::size_t i = 0; i < place.structure && i < place.points.size(); ++i) {
-    const Eigen::Vector3f q = R * place.points[i] + t;
-    if (q.x() * q.x() + q.z() * q.z() <= reach2) near.push_back(place.points[i]);
+    if (within_ground_range(R * place.points[i] + t, config.slide_near_m))
+      near.push_back(place.points[i]);
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
   if (int(near.size()) < config.min_points / 2) return nan;
@@ -136,15 +135,6 @@ std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& c) {
   for (double yaw : yaws) out.push_back(yaw_rotation(yaw));
   return out;
 }
-
-namespace {
-bool slides(const TargetCloud& query, const PlaceCloud& place, const Eigen::Isometry3d& T,
-            const VerifyConfig& config) {
-  if (!(config.slide_shift_m > 0 && config.slide_share > 0)) return false;
-  const double ratio = slide_ratio(query, place, T, config);
-  return std::isfinite(ratio) && ratio >= config.slide_share;
-}
-}  // namespace
 
 Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
                       const std::vector<Eigen::Isometry3d>& guesses, const VerifyConfig& config,
@@ -237,7 +227,9 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
     loop.verdict = Verdict::Degenerate;
   } else if (best.T_target_source.translation().norm() > config.max_translation_m) {
     loop.verdict = Verdict::TooFar;
-  } else if (ambiguous || slides(query, place, best.T_target_source, config)) {
+  } else if (ambiguous ||
+             (config.slide_share > 0 &&  // NaN (too little near): no verdict
+              slide_ratio(query, place, best.T_target_source, config) >= config.slide_share)) {
     loop.verdict = Verdict::Ambiguous;
   } else {
     loop.verdict = Verdict::Accepted;

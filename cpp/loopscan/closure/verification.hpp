@@ -70,7 +70,7 @@ struct VerifyConfig {
   // The place's near structure (within slide_near_m of the query, across the ground) moved
   // +-slide_shift_m and +-1.5 slide_shift_m along the query's track: fitting there at least
   // slide_share as well as where it was aligned, the alignment slid along a street that only
-  // far structure held (ambiguous; slide_shift_m or slide_share 0: off).
+  // far structure held (ambiguous; slide_share 0: off).
   double slide_shift_m = 4.0;
   double slide_near_m = 15.0;
   double slide_share = 1.0;

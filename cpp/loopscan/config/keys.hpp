@@ -218,7 +218,7 @@ void visit_closure(V& v, Configuration& c) {
           "another candidate place aligned to this share of the accepted one's overlap ...");
     v.key("rival_place_m", f.rival_place_m, closed(0, 1000),
           "... that puts the query this far from where it does: ambiguous (0: off)");
-    v.key("slide_shift_m", f.slide_shift_m, closed(0, 100),
+    v.key("slide_shift_m", f.slide_shift_m, above(0, 100),
           "the place's near structure moved this far and 1.5 times it along the track ...");
     v.key("slide_near_m", f.slide_near_m, above(0, 1000), "... near: this close to the query ...");
     v.key("slide_share", f.slide_share, closed(0, 10),
