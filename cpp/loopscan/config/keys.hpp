@@ -207,7 +207,7 @@ void visit_closure(V& v, Configuration& c) {
     v.key("along_track_seed_m", f.along_track_seed_m, closed(0, 100),
           "ICP also starts this far ahead and behind the query (nearby: unless birds_eye)");
     v.key("screen_iterations", f.screen_iterations, closed(1, 1000),
-          "coarse ICP iterations of every start");
+          "at most this many coarse ICP iterations for every start");
     v.key("screen_min_overlap", f.screen_min_overlap, closed(0, 1),
           "below this after screening: refused without refining");
     v.key("rival_share", f.rival_share, closed(0, 1),
