@@ -58,7 +58,7 @@ TEST(Icp, RecoversRandomTransformsWithinTheBasin) {
     const auto [target_points, source] = two_views(100 + trial, T);
     const closure::TargetCloud target(target_points);
     // Start from the yaw a descriptor would give, off by up to 5 degrees.
-    const double yaw_guess = std::atan2(-T.linear()(0, 2), T.linear()(2, 2)) + 5 * M_PI / 180 * u(rng);
+    const double yaw_guess = closure::yaw_of(T) + 5 * M_PI / 180 * u(rng);
     const closure::Loop loop = closure::verify_candidate(target, source, {closure::yaw_rotation(yaw_guess)});
     SCOPED_TRACE(trial);
     EXPECT_EQ(loop.verdict, closure::Verdict::Accepted) << closure::to_string(loop.verdict)
@@ -84,8 +84,7 @@ TEST(Icp, StagesEndWhenStepsFallBelowTheVoxelsNoise) {
                                      Eigen::Vector3d(2 * u(rng), 0.2 * u(rng), 2 * u(rng)));
     const auto [target_points, source] = two_views(300 + trial, T);
     const closure::TargetCloud target(target_points);
-    const Eigen::Isometry3d start =
-        closure::yaw_rotation(std::atan2(-T.linear()(0, 2), T.linear()(2, 2)));
+    const Eigen::Isometry3d start = closure::yaw_rotation(closure::yaw_of(T));
     const closure::IcpResult coarse =
         closure::align_point_to_plane(source.points, target, start, {}, source.structure);
     const closure::IcpResult oracle =
@@ -124,7 +123,7 @@ TEST(Icp, BirdsEyeCandidatesSeedWithTheirMetricPoseFirst) {
   const auto [target_points, source] = two_views(37, T);
   const closure::TargetCloud target(target_points);
   Candidate c;
-  c.yaw_rad = std::atan2(-T.linear()(0, 2), T.linear()(2, 2)) + 2 * M_PI / 180;
+  c.yaw_rad = closure::yaw_of(T) + 2 * M_PI / 180;
   c.x_m = 3.6;
   c.z_m = 6.5;
   const std::vector<Eigen::Isometry3d> guesses = closure::yaw_guesses(c);

@@ -31,7 +31,7 @@ bool within_ground_range(const Eigen::Vector3f& p, double range_m) {
 
 double yaw_of(const Eigen::Isometry3d& T) {
   const Eigen::Matrix3d R = T.rotation();
-  return std::atan2(R(0, 2), R(2, 2));
+  return std::atan2(-R(0, 2), R(2, 2));
 }
 
 void validate(const BirdsEyeConfig& c) {

@@ -15,7 +15,8 @@ namespace loopscan::closure {
 
 // Rotation about the camera's up axis (-y), positive to the left: Candidate::yaw_rad's sense.
 Eigen::Isometry3d yaw_rotation(double yaw_rad);
-// The yaw of a pose about the up axis (radians): a loop's heading difference.
+// The yaw of a pose about the up axis (radians), in yaw_rotation's sense (its inverse): a
+// loop's heading difference.
 double yaw_of(const Eigen::Isometry3d& T);
 // A camera-frame point within range_m of the camera across the ground (x, z; height ignored).
 bool within_ground_range(const Eigen::Vector3f& p, double range_m);
