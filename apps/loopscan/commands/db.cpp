@@ -182,7 +182,7 @@ void run_query(const QueryArgs& a) {
                            "database with --gt); place " +
                                std::to_string(j) + " has none");
     }
-    db_pos[j] = -T->leftCols<3>().transpose() * T->col(3);
+    db_pos[j] = camera_centre(*T);
     db_headings[j] = T->leftCols<3>().row(2).transpose();  // the camera z axis in the world
     db_ids[j] = db.place(j).keyframe;
   }

@@ -19,19 +19,8 @@ struct Peak {
 
 }  // namespace
 
-Eigen::Isometry3d yaw_rotation(double yaw_rad) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d(0, -1, 0)).toRotationMatrix();
-  return T;
-}
-
 bool within_ground_range(const Eigen::Vector3f& p, double range_m) {
   return double(p.x()) * p.x() + double(p.z()) * p.z() <= range_m * range_m;
-}
-
-double yaw_of(const Eigen::Isometry3d& T) {
-  const Eigen::Matrix3d R = T.rotation();
-  return std::atan2(-R(0, 2), R(2, 2));
 }
 
 void validate(const BirdsEyeConfig& c) {

@@ -10,14 +10,13 @@
 #include <Eigen/Geometry>
 
 #include "loopscan/closure/voxel_cloud.hpp"
+#include "loopscan/core/yaw.hpp"
 
 namespace loopscan::closure {
 
-// Rotation about the camera's up axis (-y), positive to the left: Candidate::yaw_rad's sense.
-Eigen::Isometry3d yaw_rotation(double yaw_rad);
-// The yaw of a pose about the up axis (radians), in yaw_rotation's sense (its inverse): a
-// loop's heading difference.
-double yaw_of(const Eigen::Isometry3d& T);
+// Candidate::yaw_rad's sense; yaw_of(loop.T_query_match) is a loop's heading difference.
+using loopscan::yaw_of;
+using loopscan::yaw_rotation;
 // A camera-frame point within range_m of the camera across the ground (x, z; height ignored).
 bool within_ground_range(const Eigen::Vector3f& p, double range_m);
 

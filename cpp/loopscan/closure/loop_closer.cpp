@@ -199,7 +199,7 @@ std::vector<LoopCloser::Proposal> LoopCloser::nearby_places(int keyframe_id, lon
       if (!map_tied) continue;
       const std::optional<Pose3x4> T_cam_world = db_.pose(index);  // a copy: pose() returns one
       if (!T_cam_world) continue;
-      position = -T_cam_world->leftCols<3>().transpose() * T_cam_world->col(3);
+      position = camera_centre(*T_cam_world);
     }
     const double radius = std::min(
         p.max_radius_m, p.base_radius_m + p.radius_per_m * std::min(path_between, since_loop));

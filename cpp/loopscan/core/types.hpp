@@ -28,6 +28,11 @@ struct KeyframePose {
   Eigen::Matrix<double, 3, 4> T_cam_world = Eigen::Matrix<double, 3, 4>::Identity();
 };
 
+// Where the camera of a world-to-camera transform is, in the world: -R^T t.
+inline Eigen::Vector3d camera_centre(const Pose3x4& T_cam_world) {
+  return -T_cam_world.leftCols<3>().transpose() * T_cam_world.col(3);
+}
+
 // `Reference` reproduces the authors' implementation including its defects;
 // `Default` fixes them (see docs/reference-vs-default.md).
 enum class Mode { Reference, Default };

@@ -9,6 +9,7 @@
 #include "loopscan/core/database/database_checks.hpp"
 #include "loopscan/core/database/place_store.hpp"
 #include "loopscan/core/parallel.hpp"
+#include "loopscan/core/yaw.hpp"
 
 namespace loopscan {
 namespace {
@@ -304,9 +305,7 @@ double relative_yaw(const Eigen::Matrix3d& query_frame, const Eigen::Matrix3d& p
       G.block<2, 2>(1, 1).determinant() * query_frame.determinant() * place_frame.determinant();
   G(0, 0) = det < 0 ? -1.0 : 1.0;
   const Eigen::Matrix3d R_place_query = place_frame.transpose() * G * query_frame;
-  // The place keyframe's forward axis (+z) in the query camera frame; yaw about -y.
-  const Eigen::Vector3d forward = R_place_query.transpose() * Eigen::Vector3d::UnitZ();
-  return std::atan2(-forward.x(), forward.z());
+  return yaw_of(Eigen::Matrix3d(R_place_query.transpose()));
 }
 
 }  // namespace loopscan

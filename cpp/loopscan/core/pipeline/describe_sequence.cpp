@@ -10,14 +10,6 @@
 #include <string>
 
 namespace loopscan {
-namespace {
-
-Eigen::Vector3d camera_center(const KeyframePose& k) {
-  const auto R = k.T_cam_world.leftCols<3>();
-  return -R.transpose() * k.T_cam_world.col(3);
-}
-
-}  // namespace
 
 SequenceOptions SequenceOptions::make(Method method, Mode mode, double range_m) {
   SequenceOptions o;
@@ -126,8 +118,8 @@ SequenceSignatures describe_sequence(const std::vector<KeyframePose>& poses,
 std::vector<int> detect_vo_resets(const std::vector<KeyframePose>& poses, double jump_m) {
   std::vector<int> resets;
   for (std::size_t i = 1; i < poses.size(); ++i) {
-    const Eigen::Vector3d c = camera_center(poses[i]);
-    if (c.norm() < 1.0 && (c - camera_center(poses[i - 1])).norm() > jump_m) {
+    const Eigen::Vector3d c = camera_centre(poses[i].T_cam_world);
+    if (c.norm() < 1.0 && (c - camera_centre(poses[i - 1].T_cam_world)).norm() > jump_m) {
       resets.push_back(poses[i].id);
     }
   }

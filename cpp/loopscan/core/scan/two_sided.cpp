@@ -25,10 +25,6 @@ struct FloatPose {
   }
 };
 
-Eigen::Vector3d centre_of(const KeyframePose& k) {
-  return -k.T_cam_world.leftCols<3>().transpose() * k.T_cam_world.col(3);
-}
-
 }  // namespace
 
 void ScanImitator::push(const KeyframePose& keyframe, const IdPoint* points, std::size_t n_points,
@@ -47,7 +43,7 @@ void ScanImitator::push(const KeyframePose& keyframe, const IdPoint* points, std
     this->reset();
   }
   append_points(points, n_points);
-  const Eigen::Vector3d centre = centre_of(keyframe);
+  const Eigen::Vector3d centre = camera_centre(keyframe.T_cam_world);
   if (has_centre_) path_m_ += (centre - last_centre_).norm();
   last_centre_ = centre;
   has_centre_ = true;
