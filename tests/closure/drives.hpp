@@ -83,7 +83,7 @@ inline bool is_revisit(const std::vector<Eigen::Vector3d>& gt, std::size_t i) {
 inline std::vector<Eigen::Vector3d> centres(const std::vector<KeyframePose>& poses) {
   std::vector<Eigen::Vector3d> out;
   for (const KeyframePose& k : poses) {
-    out.push_back(-k.T_cam_world.leftCols<3>().transpose() * k.T_cam_world.col(3));
+    out.push_back(camera_centre(k.T_cam_world));
   }
   return out;
 }

@@ -17,9 +17,7 @@ namespace {
 
 using closure::Points3f;
 
-double yaw_deg(const Eigen::Isometry3d& T) {
-  return std::atan2(T.linear()(0, 2), T.linear()(2, 2)) * 180 / M_PI;
-}
+double yaw_deg(const Eigen::Isometry3d& T) { return closure::yaw_of(T) * 180 / M_PI; }
 
 double yaw_difference_deg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return std::abs(std::remainder(yaw_deg(a) - yaw_deg(b), 360.0));

@@ -6,6 +6,7 @@
 #include <functional>
 
 #include "loopscan/core/matching/birds_eye_match.hpp"
+#include "loopscan/core/yaw.hpp"
 #include "loopscan/eval/direction_split.hpp"
 #include "loopscan/eval/place_evaluation.hpp"
 #include "loopscan/report/plot.hpp"
@@ -193,7 +194,7 @@ std::vector<report::Figure> birds_eye_revisit_figures(const sim::Trajectory& rou
             route.T_world_cam[static_cast<std::size_t>(ids[p])],
         0,
         false};
-    r.true_yaw = std::atan2(r.truth.linear()(2, 0), r.truth.linear()(0, 0));
+    r.true_yaw = yaw_of(r.truth);
     const double off = std::hypot(r.found.x_m - r.truth.translation().x(),
                                   r.found.z_m - r.truth.translation().z());
     r.pose_right = off < 2.0 && std::abs(std::remainder(r.found.yaw_rad - r.true_yaw, 2 * M_PI)) <

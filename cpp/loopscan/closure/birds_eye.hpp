@@ -14,7 +14,8 @@
 
 namespace loopscan::closure {
 
-// Candidate::yaw_rad's sense; yaw_of(loop.T_query_match) is a loop's heading difference.
+// yaw_rotation / yaw_of (core/yaw.hpp) turn in Candidate::yaw_rad's sense;
+// yaw_of(loop.T_query_match) is a loop's heading difference.
 using loopscan::yaw_of;
 using loopscan::yaw_rotation;
 // A camera-frame point within range_m of the camera across the ground (x, z; height ignored).
