@@ -304,9 +304,8 @@ double relative_yaw(const Eigen::Matrix3d& query_frame, const Eigen::Matrix3d& p
   const double det =
       G.block<2, 2>(1, 1).determinant() * query_frame.determinant() * place_frame.determinant();
   G(0, 0) = det < 0 ? -1.0 : 1.0;
-  const Eigen::Matrix3d R_place_query = place_frame.transpose() * G * query_frame;
-  const Eigen::Matrix3d R_query_place =
-      R_place_query.transpose();  // the place in the query's frame
+  // The place keyframe's orientation in the query camera frame.
+  const Eigen::Matrix3d R_query_place = (place_frame.transpose() * G * query_frame).transpose();
   return yaw_of(R_query_place);
 }
 
