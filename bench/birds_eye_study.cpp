@@ -7,13 +7,15 @@
 //
 //   loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] [--in-range]
 //                            [--window START END] [--pose-window START END] [--range R]
-//                            [--significance]
+//                            [--significance] [--sequence L]... [--rate RATE SLACK]
 //
 // K, the weight windows of the images and of the pose search (m), and the image's range R
 // (m): the library defaults. --significance adds a row per cell kind: the image search's best
 // places ranked by how far their correlation peak stands out of its surface (peak to sidelobe)
 // instead of by its score. Places are described from the scan `describe` and the Recognizer
-// describe (polar-filtered); --in-range describes every in-range point instead.
+// describe (polar-filtered); --in-range describes every in-range point instead. --sequence L
+// adds a row per cell kind that ranks each query's finalists by their mean image distance along
+// the last L queries (see sequence_matches; RATE and SLACK: 2.5 and 3 places).
 //
 // Each directory holds poses_history_file.txt, pts_history_file.txt[.gz] and gt.txt.
 #include <algorithm>
@@ -152,6 +154,7 @@ double peak_to_sidelobe(const std::vector<double>& surface, int side, int guard)
 struct CellResult {
   std::vector<eval::QueryMatch> by_key, by_image;
   std::vector<eval::QueryMatch> by_significance;  // by_image's place, ranked by peak to sidelobe
+  std::vector<std::vector<std::pair<int, double>>> finalists;  // per query: (place, image distance)
   double separation = 0;  // mean over queries
   double key_us = 0, image_ms = 0;
 };
@@ -166,6 +169,7 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
   for (int i = 0; i < nq; ++i) out.by_key[i].query = i;
   out.by_image = out.by_key;
   out.by_significance = out.by_key;
+  out.finalists.assign(nq, {});
   std::array<double, 2> key_ms{}, image_ms{}, separations{};
   std::array<long, 2> pairs{}, searched{};
   run_on_threads(2, [&](int t) {
@@ -196,6 +200,7 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
         const int j = keyed[f].second;
         const BirdsEyePose pose =
             birds_eye_pose(queries.places[cell][i], db.places[cell][j], yaw[j], config, search);
+        out.finalists[i].push_back({j, 1.0 - pose.score});
         if (1.0 - pose.score < out.by_image[i].distance) {
           out.by_image[i] = {i, j, 1.0 - pose.score};
           best_yaw = pose.yaw_rad;
@@ -219,6 +224,32 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
   return out;
 }
 
+// Each query's finalist ranked by the mean image distance along the last `length` queries: a
+// query k back counts its nearest-in-distance finalist within rate * k + slack places of the
+// candidate (either direction of travel), or distance 1 if it has none.
+std::vector<eval::QueryMatch> sequence_matches(
+    const std::vector<std::vector<std::pair<int, double>>>& finalists, int length, double rate,
+    double slack) {
+  const int nq = int(finalists.size());
+  std::vector<eval::QueryMatch> out(nq);
+  for (int i = 0; i < nq; ++i) {
+    out[i] = {i, 0, std::numeric_limits<double>::infinity()};
+    for (const auto& [j, d] : finalists[i]) {
+      double sum = d;
+      int n = 1;
+      for (int k = 1; k < length && i - k >= 0; ++k, ++n) {
+        double best = 1.0;
+        for (const auto& [j2, d2] : finalists[i - k]) {
+          if (std::abs(j2 - j) <= rate * k + slack) best = std::min(best, d2);
+        }
+        sum += best;
+      }
+      if (sum / n < out[i].distance) out[i] = {i, j, sum / n};
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -226,6 +257,8 @@ int main(int argc, char** argv) {
   BirdsEyeSearchConfig search;
   int& finalists = search.finalists;
   bool pipeline_scan = true, significance = false;
+  std::vector<int> sequences;
+  double rate = 2.5, slack = 3;
   BirdsEyePlaceConfig layout;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -241,6 +274,11 @@ int main(int argc, char** argv) {
       layout.range_m = std::atof(argv[++i]);
     } else if (a == "--significance") {
       significance = true;
+    } else if (a == "--sequence" && i + 1 < argc) {
+      sequences.push_back(std::atoi(argv[++i]));
+    } else if (a == "--rate" && i + 2 < argc) {
+      rate = std::atof(argv[++i]);
+      slack = std::atof(argv[++i]);
     } else if (a == "--in-range") {
       pipeline_scan = false;
     } else {
@@ -251,7 +289,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] "
                  "[--in-range] [--window START END] [--pose-window START END] [--range R] "
-                 "[--significance]\n");
+                 "[--significance] [--sequence L]... [--rate RATE SLACK]\n");
     return 2;
   }
   try {
@@ -279,6 +317,11 @@ int main(int argc, char** argv) {
       if (significance) {
         report(std::string(kCellNames[c]) + " cells" + image + ", ranked by peak to sidelobe",
                results[c].by_significance, queries, db, protocol);
+      }
+      for (int length : sequences) {
+        report(std::string(kCellNames[c]) + " cells" + image + ", sequence of " +
+                   std::to_string(length),
+               sequence_matches(results[c].finalists, length, rate, slack), queries, db, protocol);
       }
     }
     const int chosen = results[kHeight].separation > results[kDensity].separation ? kHeight : kDensity;
