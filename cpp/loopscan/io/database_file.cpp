@@ -191,10 +191,10 @@ Database load_database(const std::string& path, const DatabaseConfig* expected,
                        std::vector<PlaceCloud>* clouds) {
   if (clouds) clouds->clear();
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "cannot open the place database file");
+  if (!in) throw InputError(path, 0, "a readable place database file");
   std::error_code ec;
   const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError(path, 0, "cannot read the size of the place database file");
+  if (ec) throw InputError(path, 0, "a place database file whose size can be read");
   Reader r(in, path);
 
   char magic[8];
