@@ -6,16 +6,14 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <thread>
 #include <type_traits>
 
 #include "closure/drives.hpp"
 #include "loopscan/closure/background_closer.hpp"
 #include "loopscan/core/keyframe_stream.hpp"
-#include "loopscan/sim/trajectory.hpp"
+#include "loopscan/sim/conditions.hpp"
 #include "loopscan/sim/vo_simulator.hpp"
-#include "loopscan/sim/world.hpp"
 
 namespace loopscan {
 namespace {
