@@ -224,9 +224,9 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
   return out;
 }
 
-// Each query's finalist ranked by the mean image distance along the last `length` queries: a
-// query k back counts its nearest-in-distance finalist within rate * k + slack places of the
-// candidate (either direction of travel), or distance 1 if it has none.
+// Each query's finalists ranked by the mean image distance along the last `length` queries: a
+// query k back counts the smallest distance among its finalists within rate * k + slack places
+// of the candidate (either direction of travel), or 1 if none is.
 std::vector<eval::QueryMatch> sequence_matches(
     const std::vector<std::vector<std::pair<int, double>>>& finalists, int length, double rate,
     double slack) {
