@@ -7,7 +7,7 @@
 //
 //   loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] [--in-range]
 //                            [--window START END] [--pose-window START END] [--range R]
-//                            [--significance] [--sequence L]... [--rate RATE SLACK]
+//                            [--significance] [--sequence L]...
 //
 // K, the weight windows of the images and of the pose search (m), and the image's range R
 // (m): the library defaults. --significance adds a row per cell kind: the image search's best
@@ -15,7 +15,7 @@
 // instead of by its score. Places are described from the scan `describe` and the Recognizer
 // describe (polar-filtered); --in-range describes every in-range point instead. --sequence L
 // adds a row per cell kind that ranks each query's finalists by their mean image distance along
-// the last L queries (see sequence_matches; RATE and SLACK: 2.5 and 3 places).
+// the last L queries (see sequence_matches).
 //
 // Each directory holds poses_history_file.txt, pts_history_file.txt[.gz] and gt.txt.
 #include <algorithm>
@@ -225,11 +225,11 @@ CellResult evaluate_cells(int cell, const Session& queries, const Session& db, b
 }
 
 // Each query's finalists ranked by the mean image distance along the last `length` queries: a
-// query k back counts the smallest distance among its finalists within rate * k + slack places
-// of the candidate (either direction of travel), or 1 if none is.
+// query k back counts the smallest distance among its finalists within 2.5 k + 3 places of the
+// candidate (either direction of travel), or 1 if none is.
 std::vector<eval::QueryMatch> sequence_matches(
-    const std::vector<std::vector<std::pair<int, double>>>& finalists, int length, double rate,
-    double slack) {
+    const std::vector<std::vector<std::pair<int, double>>>& finalists, int length) {
+  constexpr double kPlacesPerQuery = 2.5, kSlackPlaces = 3;
   const int nq = int(finalists.size());
   std::vector<eval::QueryMatch> out(nq);
   for (int i = 0; i < nq; ++i) {
@@ -240,7 +240,7 @@ std::vector<eval::QueryMatch> sequence_matches(
       for (int k = 1; k < length && i - k >= 0; ++k, ++n) {
         double best = 1.0;
         for (const auto& [j2, d2] : finalists[i - k]) {
-          if (std::abs(j2 - j) <= rate * k + slack) best = std::min(best, d2);
+          if (std::abs(j2 - j) <= kPlacesPerQuery * k + kSlackPlaces) best = std::min(best, d2);
         }
         sum += best;
       }
@@ -258,7 +258,6 @@ int main(int argc, char** argv) {
   int& finalists = search.finalists;
   bool pipeline_scan = true, significance = false;
   std::vector<int> sequences;
-  double rate = 2.5, slack = 3;
   BirdsEyePlaceConfig layout;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -276,9 +275,6 @@ int main(int argc, char** argv) {
       significance = true;
     } else if (a == "--sequence" && i + 1 < argc) {
       sequences.push_back(std::atoi(argv[++i]));
-    } else if (a == "--rate" && i + 2 < argc) {
-      rate = std::atof(argv[++i]);
-      slack = std::atof(argv[++i]);
     } else if (a == "--in-range") {
       pipeline_scan = false;
     } else {
@@ -289,7 +285,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: loopscan_birds_eye_study MAP_DIR [QUERY_DIR] [--finalists K] "
                  "[--in-range] [--window START END] [--pose-window START END] [--range R] "
-                 "[--significance] [--sequence L]... [--rate RATE SLACK]\n");
+                 "[--significance] [--sequence L]...\n");
     return 2;
   }
   try {
@@ -321,7 +317,7 @@ int main(int argc, char** argv) {
       for (int length : sequences) {
         report(std::string(kCellNames[c]) + " cells" + image + ", sequence of " +
                    std::to_string(length),
-               sequence_matches(results[c].finalists, length, rate, slack), queries, db, protocol);
+               sequence_matches(results[c].finalists, length), queries, db, protocol);
       }
     }
     const int chosen = results[kHeight].separation > results[kDensity].separation ? kHeight : kDensity;

@@ -37,17 +37,6 @@ std::pair<closure::PlaceCloud, closure::PlaceCloud> query_and_place(unsigned see
           place_cloud(test::transformed(b, T.inverse(), 0.03, seed + 2))};
 }
 
-// yaw_of reads back the yaw yaw_rotation turned by, whatever else the pose holds (a
-// translation, a small pitch), so a pose's yaw seeds ICP the right way round.
-TEST(BirdsEye, YawOfIsTheInverseOfYawRotation) {
-  for (const double yaw : {-3.0, -1.2, -0.1, 0.0, 0.4, 1.5, 3.1}) {
-    Eigen::Isometry3d T = closure::yaw_rotation(yaw) * Eigen::Translation3d(1.5, 0.2, -4.0);
-    EXPECT_NEAR(closure::yaw_of(T), yaw, 1e-12) << yaw;
-    T.linear() = T.linear() * Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX()).toRotationMatrix();
-    EXPECT_NEAR(closure::yaw_of(T), yaw, 1e-3) << yaw;
-  }
-}
-
 TEST(BirdsEye, BestPoseScoresTheBruteForceMaximum) {
   closure::BirdsEyeConfig config;
   config.peaks = 1;

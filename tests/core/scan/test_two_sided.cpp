@@ -21,20 +21,6 @@ KeyframePose keyframe_at(int i) {
   return k;
 }
 
-// Two-sided scans measure the VO's travel by camera_centre: the camera's world position, for
-// any rotation (the world origin maps to t, so the centre maps to the camera's origin).
-TEST(CameraCentre, IsWhereTheCameraIs) {
-  const Eigen::Vector3d centre(3.0, -1.5, 42.0);
-  for (const double angle : {0.0, 0.7, -2.9}) {
-    const Eigen::Matrix3d R =
-        Eigen::AngleAxisd(angle, Eigen::Vector3d(0.3, -1.0, 0.2).normalized()).toRotationMatrix();
-    Pose3x4 T;
-    T << R, -R * centre;
-    EXPECT_LT((camera_centre(T) - centre).norm(), 1e-12) << angle;
-  }
-  EXPECT_LT((camera_centre(keyframe_at(7).T_cam_world) - Eigen::Vector3d(0, 0, 7)).norm(), 1e-15);
-}
-
 std::vector<IdPoint> ahead_of(int i) { return {IdPoint{i, {1.0, 0.0, i + 5.0}, 100.f}}; }
 
 ImitationConfig two_sided(double lookahead) {
