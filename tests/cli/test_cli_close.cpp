@@ -70,6 +70,10 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
   EXPECT_LE(m["loops"]["revisits_closed"].get<int>(), m["loops"]["revisit_keyframes"].get<int>());
   // The same graph given every revisit's true relative pose undoes most of the drift.
   EXPECT_LT(m["ate_given_true_loops_m"].get<double>(), 0.5 * m["ate_before_m"].get<double>());
+  // So do its own loops made exact (not a bound on ate_after_m: the reference's fixed 0.1 m and
+  // 0.5 degrees weigh the loops against the odometry otherwise than measured covariances).
+  EXPECT_LT(m["ate_given_exact_accepted_loops_m"].get<double>(),
+            0.5 * m["ate_before_m"].get<double>());
   // Without linking every described keyframe is a place; the revisits are the same keyframes.
   const path copies = drives() / "copies";
   const test::CliResult rc =
@@ -128,6 +132,23 @@ TEST(CliClose, ASecondSessionIsPlacedInTheSavedMap) {
   EXPECT_GT(m["map_places"].get<int>(), 250);  // both sessions
   // True loops into the (corrected) map hold the session in the map's frame.
   EXPECT_LT(m["ate_given_true_loops_m"].get<double>(), m["ate_before_m"].get<double>());
+}
+
+TEST(CliClose, WithoutLoopsTheExactLoopsReferenceIsTheVoItself) {
+  const path out = drives() / "none_closed";
+  const test::CliResult r = test::run(
+      close_args("summer", out) +
+      test::config(drives(), "none_closed",
+                   "closure:\n  max_candidate_distance: -1000\n  proximity:\n    candidates: 0\n"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json m = nlohmann::json::parse(test::file_bytes(out / "metrics.json"));
+  ASSERT_EQ(m["loops"]["revisits_closed"].get<int>(), 0);
+  EXPECT_GT(m["loops"]["revisit_keyframes"].get<int>(), 10);
+  EXPECT_LT(m["ate_given_true_loops_m"].get<double>(), 0.5 * m["ate_before_m"].get<double>());
+  // No loop to make exact: only odometry edges, at rest at the VO's poses (orthonormalised:
+  // within a millimetre).
+  EXPECT_NEAR(m["ate_given_exact_accepted_loops_m"].get<double>(), m["ate_before_m"].get<double>(),
+              1e-3);
 }
 
 TEST(CliClose, BadInputIsRefusedWithNothingWritten) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <stdexcept>
 #include <type_traits>
 #include <unordered_map>
 
@@ -105,10 +106,11 @@ std::vector<Revisit> true_revisits(const ClosureRun& run, const GroundTruth& gt,
   return out;
 }
 
-// What the loops could give: the pose graph of `config` over the VO's keyframes (orthonormalised
-// as the closer takes them), given one loop per true revisit with its ground-truth relative pose
-// at 0.1 m and 0.5 degrees; the trajectory's ATE after the solve. Places of a saved map are
-// fixed at their map poses. NaN without ground-truth orientations (RobotCar GPS).
+// What loops could give: the pose graph of `config` over the VO's keyframes (orthonormalised
+// as the closer takes them), given a loop per pair (every true revisit, or the closer's own
+// loops) with its ground-truth relative pose at 0.1 m and 0.5 degrees; the trajectory's ATE
+// after the solve. Places of a saved map are fixed at their map poses. NaN without
+// ground-truth orientations (RobotCar GPS).
 double ate_given_true_loops(const ClosureRun& run, const GroundTruth& gt, const GroundTruth& map_gt,
                             const std::vector<Revisit>& revisits, closure::PoseGraphConfig config) {
   if (gt.poses.empty() || map_gt.poses.empty() || run.input.empty()) return std::nan("");
@@ -292,6 +294,7 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
   int proposed = 0, accepted = 0, true_accepted = 0;
   std::vector<double> t_err, r_err;
   std::set<int> accepted_queries;  // with a true accepted loop
+  std::vector<Revisit> accepted_pairs;  // the true accepted loops, as revisit and place
   io::TextFileWriter csv(dir + "/loops.csv");
   csv.write(std::string("query,match,session,r00,r01,r02,tx,r10,r11,r12,ty,r20,r21,r22,tz,") +
             "overlap,rmse,accepted,verdict,distance,constraint,source" +
@@ -332,8 +335,15 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
         t.rotation_error_deg = NAN;
       }
       loop_true.push_back(t.is_true);
+      if (l.accepted() && t.is_true) {
+        accepted_queries.insert(l.query);
+        const PlaceRef at = run.map.place(l.place_index);
+        if (at.session != l.match.session || at.keyframe != l.match.keyframe) {
+          throw std::logic_error("close: a loop's place index is not its place in the map");
+        }
+        accepted_pairs.push_back({l.query, l.place_index});
+      }
       if (l.accepted()) {
-        if (t.is_true) accepted_queries.insert(l.query);
         true_accepted += t.is_true;
         if (t.is_true)
           t_err.push_back(t.translation_error_m), r_err.push_back(t.rotation_error_deg);
@@ -392,9 +402,14 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
     m["loops"]["revisit_keyframes"] = revisits.size();
     m["loops"]["revisits_closed"] = closed;
     m["loops"]["recall"] = revisits.empty() ? 0.0 : double(closed) / double(revisits.size());
-    const double reachable =
-        ate_given_true_loops(run, *gt, others, revisits, loop_closer_config(c).graph);
+    const closure::PoseGraphConfig graph = loop_closer_config(c).graph;
+    const double reachable = ate_given_true_loops(run, *gt, others, revisits, graph);
     if (reachable == reachable) m["ate_given_true_loops_m"] = reachable;
+    // The accepted true loops made exact (their own pairs, ground-truth relative poses): against
+    // ate_after_m what the loops' errors cost, against ate_given_true_loops_m what the missed
+    // revisits cost.
+    const double exact = ate_given_true_loops(run, *gt, others, accepted_pairs, graph);
+    if (exact == exact) m["ate_given_exact_accepted_loops_m"] = exact;
     const auto median = [](std::vector<double> v) {
       if (v.empty()) return std::nan("");
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
