@@ -293,7 +293,6 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
   std::vector<char> loop_true;
   int proposed = 0, accepted = 0, true_accepted = 0;
   std::vector<double> t_err, r_err;
-  std::set<int> accepted_queries;  // with a true accepted loop
   std::vector<Revisit> accepted_pairs;  // the true accepted loops, as revisit and place
   io::TextFileWriter csv(dir + "/loops.csv");
   csv.write(std::string("query,match,session,r00,r01,r02,tx,r10,r11,r12,ty,r20,r21,r22,tz,") +
@@ -336,17 +335,14 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
       }
       loop_true.push_back(t.is_true);
       if (l.accepted() && t.is_true) {
-        accepted_queries.insert(l.query);
+        ++true_accepted;
+        t_err.push_back(t.translation_error_m);
+        r_err.push_back(t.rotation_error_deg);
         const PlaceRef at = run.map.place(l.place_index);
         if (at.session != l.match.session || at.keyframe != l.match.keyframe) {
           throw std::logic_error("close: a loop's place index is not its place in the map");
         }
         accepted_pairs.push_back({l.query, l.place_index});
-      }
-      if (l.accepted()) {
-        true_accepted += t.is_true;
-        if (t.is_true)
-          t_err.push_back(t.translation_error_m), r_err.push_back(t.rotation_error_deg);
       }
       n += std::snprintf(line + n, sizeof line - n, ",%d,%.4f,%.4f,%.4f", int(t.is_true),
                          t.gt_distance_m, t.translation_error_m, t.rotation_error_deg);
@@ -397,8 +393,10 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
     m["loops"]["precision"] = accepted > 0 ? double(true_accepted) / accepted : 1.0;
     const GroundTruth& others = map_gt ? *map_gt : *gt;
     const std::vector<Revisit> revisits = true_revisits(run, *gt, others, true_within_m);
+    std::set<int> closed_keyframes;
+    for (const Revisit& p : accepted_pairs) closed_keyframes.insert(p.keyframe);
     int closed = 0;
-    for (const Revisit& r : revisits) closed += accepted_queries.count(r.keyframe) > 0;
+    for (const Revisit& r : revisits) closed += closed_keyframes.count(r.keyframe) > 0;
     m["loops"]["revisit_keyframes"] = revisits.size();
     m["loops"]["revisits_closed"] = closed;
     m["loops"]["recall"] = revisits.empty() ? 0.0 : double(closed) / double(revisits.size());
