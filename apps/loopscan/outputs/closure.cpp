@@ -55,17 +55,19 @@ double peak_resident_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
 }
 
-// A described keyframe of this session with a true revisit: a place of another session, or of
-// this one described at least 100 keyframes earlier, within `within_m` (the evaluation
-// protocol's ground truth); `partner` is the nearest one. Keyframes that linked to a held place
-// instead of joining the map are revisits too, but never partners.
-struct Revisit {
+// A keyframe of this session paired with a place of the run's map: a true revisit and its
+// nearest place, or an accepted loop and its place.
+struct KeyframePlace {
   int keyframe = 0;
-  std::size_t partner = 0;  // index into the run's map
+  std::size_t place = 0;  // index into the run's map
 };
 
-std::vector<Revisit> true_revisits(const ClosureRun& run, const GroundTruth& gt,
-                                   const GroundTruth& map_gt, double within_m) {
+// The described keyframes of this session with a true revisit: a place of another session, or
+// of this one described at least 100 keyframes earlier, within `within_m` (the evaluation
+// protocol's ground truth), each paired with the nearest one. Keyframes that linked to a held
+// place instead of joining the map are revisits too, but never partners.
+std::vector<KeyframePlace> true_revisits(const ClosureRun& run, const GroundTruth& gt,
+                                         const GroundTruth& map_gt, double within_m) {
   const Eigen::Vector3d absent = Eigen::Vector3d::Constant(std::nan(""));
   std::unordered_map<int, std::size_t> described_at;  // keyframe id -> described order
   std::vector<Eigen::Vector3d> mine, mine_in_map, others;
@@ -93,7 +95,7 @@ std::vector<Revisit> true_revisits(const ClosureRun& run, const GroundTruth& gt,
   const eval::GroundTruth earlier =
       eval::compute_ground_truth(mine, mine_in_map, {within_m, 100, true});
   const eval::GroundTruth elsewhere = eval::compute_ground_truth(mine, others, {within_m, 0});
-  std::vector<Revisit> out;
+  std::vector<KeyframePlace> out;
   for (std::size_t i = 0; i < mine.size(); ++i) {
     const auto d2 = [&](const Eigen::Vector3d& p) { return (mine[i] - p).squaredNorm(); };
     const int e = earlier.is_loop[i] ? earlier.nearest[i] : -1;
@@ -112,7 +114,8 @@ std::vector<Revisit> true_revisits(const ClosureRun& run, const GroundTruth& gt,
 // after the solve. Places of a saved map are fixed at their map poses. NaN without
 // ground-truth orientations (RobotCar GPS).
 double ate_given_true_loops(const ClosureRun& run, const GroundTruth& gt, const GroundTruth& map_gt,
-                            const std::vector<Revisit>& revisits, closure::PoseGraphConfig config) {
+                            const std::vector<KeyframePlace>& pairs,
+                            closure::PoseGraphConfig config) {
   if (gt.poses.empty() || map_gt.poses.empty() || run.input.empty()) return std::nan("");
   config.loop_translation_m = 0.1;
   config.loop_rotation_deg = 0.5;
@@ -128,8 +131,8 @@ double ate_given_true_loops(const ClosureRun& run, const GroundTruth& gt, const 
   }
   bool in_map_frame = false;
   std::map<std::size_t, int> fixed_node;  // map place -> node
-  for (const Revisit& r : revisits) {
-    const PlaceRef p = run.map.place(r.partner);
+  for (const KeyframePlace& r : pairs) {
+    const PlaceRef p = run.map.place(r.place);
     const bool own = p.session == run.session;
     const Eigen::Isometry3d T_query_match =
         gt_pose(gt, r.keyframe).inverse() * gt_pose(own ? gt : map_gt, p.keyframe);
@@ -137,17 +140,17 @@ double ate_given_true_loops(const ClosureRun& run, const GroundTruth& gt, const 
     int b;
     if (own) {
       b = node_of.at(p.keyframe);
-    } else if (const auto it = fixed_node.find(r.partner); it != fixed_node.end()) {
+    } else if (const auto it = fixed_node.find(r.place); it != fixed_node.end()) {
       b = it->second;
     } else {
       KeyframePose place;
-      place.T_cam_world = *run.map.pose(r.partner);
+      place.T_cam_world = *run.map.pose(r.place);
       const Eigen::Isometry3d T_map_match = world_cam(closure::orthonormalised(place));
       if (!in_map_frame) {  // start the session in the map's frame, as the closer's anchoring
         graph.transform(T_map_match * T_query_match.inverse() * graph.pose(a).inverse());
         in_map_frame = true;
       }
-      b = fixed_node[r.partner] = graph.add_fixed_node(T_map_match);
+      b = fixed_node[r.place] = graph.add_fixed_node(T_map_match);
     }
     graph.add_loop_unsolved(a, b, T_query_match);
   }
@@ -293,7 +296,7 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
   std::vector<char> loop_true;
   int proposed = 0, accepted = 0, true_accepted = 0;
   std::vector<double> t_err, r_err;
-  std::vector<Revisit> accepted_pairs;  // the true accepted loops, as revisit and place
+  std::vector<KeyframePlace> accepted_pairs;  // the true accepted loops
   io::TextFileWriter csv(dir + "/loops.csv");
   csv.write(std::string("query,match,session,r00,r01,r02,tx,r10,r11,r12,ty,r20,r21,r22,tz,") +
             "overlap,rmse,accepted,verdict,distance,constraint,source" +
@@ -392,11 +395,11 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
     m["loops"]["false_accepted"] = accepted - true_accepted;
     m["loops"]["precision"] = accepted > 0 ? double(true_accepted) / accepted : 1.0;
     const GroundTruth& others = map_gt ? *map_gt : *gt;
-    const std::vector<Revisit> revisits = true_revisits(run, *gt, others, true_within_m);
+    const std::vector<KeyframePlace> revisits = true_revisits(run, *gt, others, true_within_m);
     std::set<int> closed_keyframes;
-    for (const Revisit& p : accepted_pairs) closed_keyframes.insert(p.keyframe);
+    for (const KeyframePlace& p : accepted_pairs) closed_keyframes.insert(p.keyframe);
     int closed = 0;
-    for (const Revisit& r : revisits) closed += closed_keyframes.count(r.keyframe) > 0;
+    for (const KeyframePlace& r : revisits) closed += closed_keyframes.count(r.keyframe) > 0;
     m["loops"]["revisit_keyframes"] = revisits.size();
     m["loops"]["revisits_closed"] = closed;
     m["loops"]["recall"] = revisits.empty() ? 0.0 : double(closed) / double(revisits.size());
