@@ -264,6 +264,30 @@ TEST(LoopCloser, ASecondSessionJoinsTheSavedMapAtItsFirstLoop) {
                std::invalid_argument);
 }
 
+// Stages every keyframe runs are averaged over keyframes, those of described keyframes over
+// described ones, verification also over verified candidates, the graph over solves; an empty
+// count gives 0, not a division by zero.
+TEST(StageMeans, EachStageOverTheKeyframesThatRanIt) {
+  closure::StageTimes t;
+  t.scan = 40, t.describe = 12, t.cloud = 30, t.query = 6, t.verify = 90, t.graph = 20;
+  t.keyframes = 10, t.described = 6, t.verifications = 9, t.solves = 4;
+  const closure::StageMeans m = closure::stage_means(t);
+  EXPECT_DOUBLE_EQ(m.scan, 4.0);
+  EXPECT_DOUBLE_EQ(m.describe, 2.0);
+  EXPECT_DOUBLE_EQ(m.cloud, 5.0);
+  EXPECT_DOUBLE_EQ(m.query, 1.0);
+  EXPECT_DOUBLE_EQ(m.verify, 15.0);
+  EXPECT_DOUBLE_EQ(m.graph, 2.0);
+  EXPECT_DOUBLE_EQ(m.per_verification, 10.0);
+  EXPECT_DOUBLE_EQ(m.per_solve, 5.0);
+  t.keyframes = t.described = t.verifications = t.solves = 0;
+  const closure::StageMeans none = closure::stage_means(t);
+  for (double v : {none.scan, none.describe, none.cloud, none.query, none.verify, none.graph,
+                   none.per_verification, none.per_solve}) {
+    EXPECT_EQ(v, 0.0);
+  }
+}
+
 TEST(LoopCloser, BadKeyframesAreRefused) {
   closure::LoopCloser closer(closure::LoopCloserConfig::make(Method::ScanContext));
   KeyframePose k;

@@ -46,8 +46,6 @@ Eigen::Isometry3d gt_pose(const GroundTruth& gt, int id) {
   return T;
 }
 
-double mean_ms(double total, int count) { return count > 0 ? total / count : 0.0; }
-
 // The process's peak resident memory so far (what `close` needed, its input included).
 double peak_resident_mb() {
   rusage usage{};
@@ -355,21 +353,22 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
   csv.commit();
 
   const closure::StageTimes& tm = run.times;
+  const closure::StageMeans ms = closure::stage_means(tm);
   const eval::LatencySummary latency = eval::summarise_latency(run.add_keyframe_ms);
   nlohmann::json m = {{"method", method_name(c.method)},
                       {"keyframes", run.input.size()},
                       {"described", run.described},
                       {"loops", {{"proposed", proposed}, {"accepted", accepted}}},
                       {"ms_per_keyframe",
-                       {{"scan", mean_ms(tm.scan, tm.keyframes)},
-                        {"describe", mean_ms(tm.describe, tm.described)},
-                        {"cloud", mean_ms(tm.cloud, tm.described)},
-                        {"query", mean_ms(tm.query, tm.described)},
-                        {"verify", mean_ms(tm.verify, tm.described)},
-                        {"graph", mean_ms(tm.graph, tm.keyframes)},
-                        {"total", mean_ms(run.total_ms, tm.keyframes)}}},
-                      {"ms_per_verification", mean_ms(tm.verify, tm.verifications)},
-                      {"ms_per_solve", mean_ms(tm.graph, tm.solves)},
+                       {{"scan", ms.scan},
+                        {"describe", ms.describe},
+                        {"cloud", ms.cloud},
+                        {"query", ms.query},
+                        {"verify", ms.verify},
+                        {"graph", ms.graph},
+                        {"total", tm.keyframes > 0 ? run.total_ms / tm.keyframes : 0.0}}},
+                      {"ms_per_verification", ms.per_verification},
+                      {"ms_per_solve", ms.per_solve},
                       {"solves", tm.solves},
                       {"session", run.session},
                       {"anchored_to_map", run.anchored},

@@ -48,6 +48,20 @@ LoopCloserConfig LoopCloserConfig::make(Method method, Mode mode, double range_m
   return c;
 }
 
+StageMeans stage_means(const StageTimes& t) {
+  const auto mean = [](double total_ms, int count) { return count > 0 ? total_ms / count : 0.0; };
+  StageMeans m;
+  m.scan = mean(t.scan, t.keyframes);
+  m.describe = mean(t.describe, t.described);
+  m.cloud = mean(t.cloud, t.described);
+  m.query = mean(t.query, t.described);
+  m.verify = mean(t.verify, t.described);
+  m.graph = mean(t.graph, t.keyframes);
+  m.per_verification = mean(t.verify, t.verifications);
+  m.per_solve = mean(t.graph, t.solves);
+  return m;
+}
+
 void validate(const LoopCloserConfig& c) {
   if (c.recognition.imitation.lookahead_m > 0 && c.recognition.imitation.mode == Mode::Default) {
     throw std::invalid_argument(

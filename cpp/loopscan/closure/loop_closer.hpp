@@ -97,6 +97,15 @@ struct StageTimes {
   std::size_t graph_nodes = 0, graph_edges = 0;  // the pose graph's solved ones, at finish()
 };
 
+// The stages' mean milliseconds as `close` reports them: the scan and the graph per keyframe,
+// the stages only a described keyframe runs per described keyframe, verification also per
+// verified candidate and the graph per solve; 0 where nothing was counted.
+struct StageMeans {
+  double scan = 0, describe = 0, cloud = 0, query = 0, verify = 0, graph = 0;
+  double per_verification = 0, per_solve = 0;
+};
+StageMeans stage_means(const StageTimes& times);
+
 struct KeyframeClosure {
   int keyframe = 0;
   bool described = false;
