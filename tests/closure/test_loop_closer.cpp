@@ -194,6 +194,53 @@ TEST(LoopCloser, RecognitionIsTheRecognizersAndRunsAreRepeatable) {
   for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_EQ(pa[i].T_cam_world, pb[i].T_cam_world);
 }
 
+// A place is classified when a verification first needs it (or when too many wait); the oracle
+// classifies every place as it joins the map. Loops, poses and clouds must not tell them apart.
+TEST(LoopCloser, PlacesClassifiedOnFirstUseAreThoseClassifiedAtOnce) {
+  const Drive& d = summer();
+  closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  closure::LoopCloserConfig at_once = config, few = config;
+  at_once.cloud.max_unclassified_places = 0;
+  few.cloud.max_unclassified_places = 3;
+  closure::LoopCloser lazy(config), oracle(at_once), capped(few);
+  std::size_t most_waiting = 0;
+  stream(d, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+    lazy.add_keyframe(k, p, n);
+    oracle.add_keyframe(k, p, n);
+    capped.add_keyframe(k, p, n);
+    EXPECT_EQ(oracle.unclassified_places(), 0u);
+    EXPECT_LE(capped.unclassified_places(), 3u);
+    most_waiting = std::max(most_waiting, capped.unclassified_places());
+  });
+  lazy.finish();
+  oracle.finish();
+  capped.finish();
+  // Most places were never a candidate: they still wait (the property is not vacuous).
+  EXPECT_GT(lazy.unclassified_places(), lazy.database().size() / 2);
+  EXPECT_EQ(most_waiting, 3u);
+  for (const closure::LoopCloser* c : {&lazy, &capped}) {
+    ASSERT_EQ(c->loops().size(), oracle.loops().size());
+    for (std::size_t i = 0; i < oracle.loops().size(); ++i) {
+      const closure::Loop &a = c->loops()[i], &b = oracle.loops()[i];
+      EXPECT_EQ(a.query, b.query);
+      EXPECT_EQ(a.place_index, b.place_index);
+      EXPECT_EQ(a.verdict, b.verdict);
+      EXPECT_EQ(a.overlap, b.overlap);
+      EXPECT_EQ(a.T_query_match.matrix(), b.T_query_match.matrix());
+    }
+    const auto pa = c->corrected_poses(), pb = oracle.corrected_poses();
+    ASSERT_EQ(pa.size(), pb.size());
+    for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_EQ(pa[i].T_cam_world, pb[i].T_cam_world);
+    const std::vector<PlaceCloud> ca = c->place_clouds(), cb = oracle.place_clouds();
+    ASSERT_EQ(ca.size(), cb.size());
+    for (std::size_t i = 0; i < ca.size(); ++i) {
+      EXPECT_EQ(ca[i].structure, cb[i].structure) << i;
+      EXPECT_TRUE(ca[i].points == cb[i].points) << i;
+    }
+    EXPECT_EQ(c->unclassified_places(), 0u);  // place_clouds() classified the rest
+  }
+}
+
 TEST(LoopCloser, ASecondSessionJoinsTheSavedMapAtItsFirstLoop) {
   const Drive& map_drive = summer();
   closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);

@@ -108,12 +108,11 @@ LoopCloser::LoopCloser(const LoopCloserConfig& config, Database map,
     : config_(config),
       imitator_(config.recognition.imitation),
       db_(std::move(map)),
-      clouds_(std::move(map_clouds)),
       graph_(config.graph) {
   validate(config_);
-  if (clouds_.size() != db_.size()) {
+  if (map_clouds.size() != db_.size()) {
     throw std::invalid_argument("loop closer: the map has " + std::to_string(db_.size()) +
-                                " places but " + std::to_string(clouds_.size()) +
+                                " places but " + std::to_string(map_clouds.size()) +
                                 " place clouds (a map saved without clouds cannot verify loops)");
   }
   require_same_description(db_.config(), map_config(config_.recognition), "loop closer");
@@ -124,6 +123,7 @@ LoopCloser::LoopCloser(const LoopCloserConfig& config, Database map,
     }
     if (!db_.pose(i)) throw std::invalid_argument("loop closer: a map place has no pose");
   }
+  for (PlaceCloud& cloud : map_clouds) clouds_.push_back({std::move(cloud), {}});
   place_ordinal_.assign(db_.size(), std::numeric_limits<long>::min());  // never recent
   anchored_ = db_.size() == 0;
   if (!anchored_) {
@@ -261,10 +261,36 @@ QueryPlacement LoopCloser::placement_of(const Loop& loop) {
   return placement(loop, *T_world_place, frame);
 }
 
-std::vector<Loop> LoopCloser::verify(const TargetCloud& query, const BirdsEyeGrid* birds_eye,
+const TargetCloud& LoopCloser::QueryCloud::get() {
+  if (!target) {
+    const StageClock::time_point t0 = StageClock::now();
+    target.emplace(voxels, normals);
+    build_ms += ms_since(t0);
+  }
+  return *target;
+}
+
+const PlaceCloud& LoopCloser::place_cloud(std::size_t index) const {
+  StoredCloud& stored = clouds_[index];
+  if (!stored.voxels.empty()) {
+    stored.cloud = to_place_cloud(TargetCloud(std::move(stored.voxels), config_.normals));
+    stored.voxels = Points3f();
+    --unclassified_;
+  }
+  return stored.cloud;
+}
+
+std::vector<PlaceCloud> LoopCloser::place_clouds() const {
+  std::vector<PlaceCloud> out;
+  out.reserve(clouds_.size());
+  for (std::size_t i = 0; i < clouds_.size(); ++i) out.push_back(place_cloud(i));
+  return out;
+}
+
+std::vector<Loop> LoopCloser::verify(QueryCloud& query, const BirdsEyeGrid* birds_eye,
                                      int keyframe_id, const std::vector<Proposal>& proposals,
                                      std::size_t& last_place_index,
-                                     std::vector<QueryPlacement>& earlier) {
+                                     std::vector<QueryPlacement>& earlier, double& cloud_ms) {
   std::vector<Loop> out;
   for (const Proposal& proposal : proposals) {
     const Candidate& c = proposal.candidate;
@@ -278,7 +304,11 @@ std::vector<Loop> LoopCloser::verify(const TargetCloud& query, const BirdsEyeGri
     // finds slid alignments of a repeating street as readily as the true one (on the reverse
     // route, places 15 m away aligned 7 m slid and passed).
     const BirdsEyeGrid* grid = proposal.predicted ? birds_eye : nullptr;
-    Loop loop = verify_candidate(query, clouds_[c.index], guesses, verify_config, grid);
+    const TargetCloud& target = query.get();
+    const StageClock::time_point t0 = StageClock::now();
+    const PlaceCloud& place = place_cloud(c.index);
+    cloud_ms += ms_since(t0);
+    Loop loop = verify_candidate(target, place, guesses, verify_config, grid);
     loop.nearby = proposal.predicted.has_value();
     loop.query = keyframe_id;
     loop.match = c.place;
@@ -400,18 +430,23 @@ KeyframeClosure LoopCloser::integrate(PreparedKeyframe prepared) {
 
 void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
   const KeyframePose& keyframe = prepared.keyframe;
-  std::optional<TargetCloud> target;
-  PlaceCloud place_cloud;
+  Points3f voxels;
+  QueryCloud query{voxels, config_.normals, std::nullopt, 0.0};
+  StoredCloud stored;
   std::optional<BirdsEyeGrid> birds_eye;
   {
     const ScopedTimer timer(times_.cloud);
-    target.emplace(voxel_cloud(prepared.raw, config_.cloud), config_.normals);
-    place_cloud = to_place_cloud(*target);
-    if (config_.verify.birds_eye.enabled) birds_eye.emplace(place_cloud, config_.verify.birds_eye);
+    voxels = voxel_cloud(prepared.raw, config_.cloud);
+    if (config_.verify.birds_eye.enabled) {  // the grid needs the classified cloud now
+      stored.cloud = to_place_cloud(query.get());
+      birds_eye.emplace(stored.cloud, config_.verify.birds_eye);
+      query.build_ms = 0;  // timed here already
+    }
   }
   ++described_;
   ++times_.described;
   // Verify the candidates, confirm by consistency.
+  double cloud_ms = 0;  // classifying map places on their first use: the cloud stage's
   {
     const ScopedTimer timer(times_.verify);
     std::size_t index = 0;  // database place of the last verification
@@ -419,11 +454,12 @@ void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
     for (const Candidate& c : out.candidates) proposals.push_back({c, std::nullopt});
     const BirdsEyeGrid* grid = birds_eye ? &*birds_eye : nullptr;
     std::vector<QueryPlacement> earlier;  // where each verified candidate put the query
-    out.verified = verify(*target, grid, keyframe.id, proposals, index, earlier);
+    out.verified = verify(query, grid, keyframe.id, proposals, index, earlier, cloud_ms);
     if (out.verified.empty() || out.verified.back().verdict != Verdict::Accepted) {
       const std::vector<Loop> nearby =
-          verify(*target, grid, keyframe.id,
-                 nearby_places(keyframe.id, prepared.ordinal, out.candidates), index, earlier);
+          verify(query, grid, keyframe.id,
+                 nearby_places(keyframe.id, prepared.ordinal, out.candidates), index, earlier,
+                 cloud_ms);
       out.verified.insert(out.verified.end(), nearby.begin(), nearby.end());
     }
     if (!out.verified.empty()) {
@@ -438,6 +474,9 @@ void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
       loops_.push_back(v);
     }
   }
+  cloud_ms += query.build_ms;
+  times_.verify -= cloud_ms;
+  times_.cloud += cloud_ms;
   // Loop edges, and a solve when the revisit is new (or enough keyframes passed).
   {
     const ScopedTimer timer(times_.graph);
@@ -452,10 +491,21 @@ void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
     }
     return;
   }
-  const std::unique_lock lock(*db_mutex_);
-  db_.add({config_.recognition.session, keyframe.id}, prepared.place, keyframe.T_cam_world);
-  place_ordinal_.push_back(prepared.ordinal);
-  clouds_.push_back(std::move(place_cloud));
+  {
+    const std::unique_lock lock(*db_mutex_);
+    db_.add({config_.recognition.session, keyframe.id}, prepared.place, keyframe.T_cam_world);
+    place_ordinal_.push_back(prepared.ordinal);
+  }
+  if (!birds_eye && !voxels.empty()) {
+    stored.voxels = std::move(voxels);
+    ++unclassified_;
+  }
+  clouds_.push_back(std::move(stored));
+  const ScopedTimer timer(times_.cloud);
+  while (unclassified_ > std::size_t(config_.cloud.max_unclassified_places)) {
+    while (clouds_[oldest_unclassified_].voxels.empty()) ++oldest_unclassified_;
+    place_cloud(oldest_unclassified_);
+  }
 }
 
 long LoopCloser::held_place(int keyframe_id, const KeyframeClosure& out) const {

@@ -183,7 +183,10 @@ class LoopCloser {
   Database corrected_map() const;
   const std::vector<Loop>& loops() const { return loops_; }  // every verification, in order
   const Database& database() const { return db_; }
-  const std::vector<PlaceCloud>& place_clouds() const { return clouds_; }
+  // Every place's cloud, classifying those no verification has needed yet.
+  std::vector<PlaceCloud> place_clouds() const;
+  // Places still kept as voxel clouds (CloudConfig::max_unclassified_places).
+  std::size_t unclassified_places() const { return unclassified_; }
   const StageTimes& times() const { return times_; }
   const LoopCloserConfig& config() const { return config_; }
 
@@ -214,9 +217,20 @@ class LoopCloser {
   // The root run a place's pose is in: its keyframe's, or the saved map's (-1: no map run).
   int run_of_place(const PlaceRef& place);
   QueryPlacement placement_of(const Loop& loop);  // framed by run_of_place
-  std::vector<Loop> verify(const TargetCloud& query, const BirdsEyeGrid* birds_eye, int keyframe_id,
+  // The query keyframe's target cloud, built for its first verification: most keyframes
+  // verify nothing.
+  struct QueryCloud {
+    const Points3f& voxels;
+    const NormalConfig& normals;
+    std::optional<TargetCloud> target;
+    double build_ms = 0;
+    const TargetCloud& get();
+  };
+  std::vector<Loop> verify(QueryCloud& query, const BirdsEyeGrid* birds_eye, int keyframe_id,
                            const std::vector<Proposal>& proposals, std::size_t& last_place_index,
-                           std::vector<QueryPlacement>& earlier);
+                           std::vector<QueryPlacement>& earlier, double& cloud_ms);
+  // A map place's cloud, classified (a plane fit per point) on its first use.
+  const PlaceCloud& place_cloud(std::size_t index) const;
   int root(int run);  // the representative of the runs joined by loops
   int run_of(std::size_t pose_index) { return root(run_[pose_index]); }
   std::vector<Loop> confirm(const Loop& loop, std::size_t place_index);
@@ -237,7 +251,15 @@ class LoopCloser {
   std::unique_ptr<std::shared_mutex> db_mutex_ = std::make_unique<std::shared_mutex>();
   Database db_;
   std::vector<long> place_ordinal_;  // per database place: its keyframe's ordinal
-  std::vector<PlaceCloud> clouds_;   // per database place
+  // Per database place: its cloud, or until a verification needs it (most places are never a
+  // candidate) its voxel cloud, the input of the classification.
+  struct StoredCloud {
+    PlaceCloud cloud;
+    Points3f voxels;  // non-empty: not classified yet
+  };
+  mutable std::vector<StoredCloud> clouds_;
+  mutable std::size_t unclassified_ = 0;         // places whose voxels are kept
+  mutable std::size_t oldest_unclassified_ = 0;  // no unclassified place before this index
   PoseGraph graph_;
   std::vector<KeyframePose> input_poses_;
   std::unordered_map<int, std::size_t> pose_index_;  // keyframe id -> input_poses_ index

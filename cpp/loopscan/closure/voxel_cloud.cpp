@@ -29,6 +29,9 @@ void validate(const CloudConfig& c) {
   if (c.max_points < 16 || c.max_points > (1 << 22)) fail("max_points must be in [16, 2^22]");
   if (!(c.max_range_m > 0 && c.max_range_m <= 1000)) fail("max_range_m must be in (0, 1000]");
   if (c.max_range_m / c.voxel_m >= double(1 << 19)) fail("max_range_m / voxel_m too large");
+  if (c.max_unclassified_places < 0 || c.max_unclassified_places > (1 << 24)) {
+    fail("max_unclassified_places must be in [0, 2^24]");
+  }
 }
 
 Points3f voxel_downsample(const Points3f& points, double voxel_m) {

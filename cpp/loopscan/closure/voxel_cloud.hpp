@@ -16,6 +16,10 @@ struct CloudConfig {
   double voxel_m = 0.5;      // one point (the centroid) per voxel of this size
   int max_points = 6000;     // kept evenly along the voxel order beyond this many
   double max_range_m = 100;  // points farther from the keyframe are dropped
+  // A place is classified (ground or structure, a plane fit per point) when a verification
+  // first needs it, and most never are; until then it keeps its voxel cloud (up to max_points
+  // x 12 bytes). Beyond this many such places the oldest is classified (0: each at once).
+  int max_unclassified_places = 2000;
 };
 
 // Throws std::invalid_argument naming the first field out of its range.

@@ -191,6 +191,9 @@ void visit_closure(V& v, Configuration& c) {
     v.key("voxel_m", l.cloud.voxel_m, closed(0.01, 10), "one point (the centroid) per voxel");
     v.key("max_points", l.cloud.max_points, closed(16, 1 << 22), "kept evenly beyond this");
     v.key("max_range_m", l.cloud.max_range_m, above(0, 1000), "farther points are dropped");
+    v.key("max_unclassified_places", l.cloud.max_unclassified_places, closed(0, 1 << 24),
+          "places kept as voxel clouds until a verification classifies them; beyond, the "
+          "oldest is classified (0: each at once)");
   });
   v.section("normals", "surface normals of the query cloud", [&] {
     v.key("neighbours", l.normals.neighbours, closed(3, 1000), "points of a plane fit");
