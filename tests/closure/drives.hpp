@@ -6,6 +6,8 @@
 #include <set>
 #include <string>
 
+#include <gtest/gtest.h>
+
 #include "loopscan/closure/loop_closer.hpp"
 #include "loopscan/core/keyframe_stream.hpp"
 #include "loopscan/eval/loop_metrics.hpp"
@@ -139,6 +141,39 @@ inline Closed close_drive(const Drive& d, const closure::LoopCloserConfig& confi
     out.closed += revisit && closed_queries.count(d.vo.poses[i].id);
   }
   return out;
+}
+
+// Two runs' verifications alike to the bit: query, place, verdict, overlap and pose.
+inline ::testing::AssertionResult same_loops(const std::vector<closure::Loop>& a,
+                                             const std::vector<closure::Loop>& b) {
+  if (a.size() != b.size()) {
+    return ::testing::AssertionFailure() << a.size() << " against " << b.size() << " loops";
+  }
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].query != b[i].query || !(a[i].match == b[i].match) ||
+        a[i].place_index != b[i].place_index || a[i].verdict != b[i].verdict ||
+        a[i].overlap != b[i].overlap ||
+        a[i].T_query_match.matrix() != b[i].T_query_match.matrix()) {
+      return ::testing::AssertionFailure() << "verification " << i << " (query " << a[i].query
+                                           << ") differs";
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// Two runs' corrected poses alike to the bit, ids included.
+inline ::testing::AssertionResult same_poses(const std::vector<KeyframePose>& a,
+                                             const std::vector<KeyframePose>& b) {
+  if (a.size() != b.size()) {
+    return ::testing::AssertionFailure() << a.size() << " against " << b.size() << " poses";
+  }
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].id != b[i].id || a[i].T_cam_world.matrix() != b[i].T_cam_world.matrix()) {
+      return ::testing::AssertionFailure() << "pose " << i << " (keyframe " << a[i].id
+                                           << ") differs";
+    }
+  }
+  return ::testing::AssertionSuccess();
 }
 
 }  // namespace loopscan::test

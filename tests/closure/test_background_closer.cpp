@@ -25,6 +25,8 @@ using closure::LoopCloser;
 using closure::LoopCloserConfig;
 
 using test::Drive;
+using test::same_loops;
+using test::same_poses;
 
 // The short built-in route (a block and its first street again) with a 2 % drifting VO.
 const Drive& drive() {
@@ -39,17 +41,6 @@ void stream(Closer& closer, const Drive& d) {
                       closer.add_keyframe(k, p, n);
                     });
   closer.finish();
-}
-
-bool same_loops(const std::vector<closure::Loop>& a, const std::vector<closure::Loop>& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i].query != b[i].query || !(a[i].match == b[i].match) || a[i].verdict != b[i].verdict ||
-        a[i].T_query_match.matrix() != b[i].T_query_match.matrix()) {
-      return false;
-    }
-  }
-  return true;
 }
 
 int accepted(const std::vector<closure::Loop>& loops) {
@@ -79,12 +70,7 @@ TEST(BackgroundLoopCloser, WaitingForASlotGivesTheSynchronousResults) {
     });
     stream(background, d);
     EXPECT_TRUE(same_loops(sync.loops(), background.loops())) << "capacity " << capacity;
-    const std::vector<KeyframePose> a = sync.corrected_poses(), b = background.corrected_poses();
-    ASSERT_EQ(a.size(), b.size());
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      EXPECT_EQ(a[i].id, b[i].id);
-      EXPECT_EQ(a[i].T_cam_world, b[i].T_cam_world);
-    }
+    EXPECT_TRUE(same_poses(sync.corrected_poses(), background.corrected_poses()));
     EXPECT_EQ(background.corrected_map().size(), sync.database().size());
     ASSERT_EQ(closed_in_order.size(), d.vo.poses.size());  // every keyframe, in input order
     for (std::size_t i = 0; i < d.vo.poses.size(); ++i)
@@ -129,9 +115,7 @@ TEST(BackgroundLoopCloser, WaitingGivesTheSynchronousResultsAcrossAVoReset) {
   EXPECT_LE(most_waiting, bc.queue_capacity + 1);
   EXPECT_GT(background.queue().waits, 30);
   EXPECT_TRUE(same_loops(sync.loops(), background.loops()));
-  const std::vector<KeyframePose> a = sync.corrected_poses(), b = background.corrected_poses();
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].T_cam_world, b[i].T_cam_world);
+  EXPECT_TRUE(same_poses(sync.corrected_poses(), background.corrected_poses()));
 }
 
 // With a worker far slower than the keyframes and a queue of 2, the caller never waits: the
@@ -218,9 +202,7 @@ TEST(BackgroundLoopCloser, CorrectedPosesAreAConsistentSnapshotAtAnyTime) {
   EXPECT_EQ(bad, 0);
   LoopCloser sync(LoopCloserConfig::make(Method::ScanContext));
   stream(sync, d);
-  const std::vector<KeyframePose> a = sync.corrected_poses(), b = closer.corrected_poses();
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].T_cam_world, b[i].T_cam_world);
+  EXPECT_TRUE(same_poses(sync.corrected_poses(), closer.corrected_poses()));
 }
 
 // Waiting keyframes are placed where the graph will put them: by their VO motion from the

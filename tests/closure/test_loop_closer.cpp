@@ -189,9 +189,7 @@ TEST(LoopCloser, RecognitionIsTheRecognizersAndRunsAreRepeatable) {
   });
   a.finish();
   b.finish();
-  const auto pa = a.corrected_poses(), pb = b.corrected_poses();
-  ASSERT_EQ(pa.size(), pb.size());
-  for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_EQ(pa[i].T_cam_world, pb[i].T_cam_world);
+  EXPECT_TRUE(test::same_poses(a.corrected_poses(), b.corrected_poses()));
 }
 
 // A place is classified when a verification first needs it (or when too many wait); the oracle
@@ -219,18 +217,8 @@ TEST(LoopCloser, PlacesClassifiedOnFirstUseAreThoseClassifiedAtOnce) {
   EXPECT_GT(lazy.unclassified_places(), lazy.database().size() / 2);
   EXPECT_EQ(most_waiting, 3u);
   for (const closure::LoopCloser* c : {&lazy, &capped}) {
-    ASSERT_EQ(c->loops().size(), oracle.loops().size());
-    for (std::size_t i = 0; i < oracle.loops().size(); ++i) {
-      const closure::Loop &a = c->loops()[i], &b = oracle.loops()[i];
-      EXPECT_EQ(a.query, b.query);
-      EXPECT_EQ(a.place_index, b.place_index);
-      EXPECT_EQ(a.verdict, b.verdict);
-      EXPECT_EQ(a.overlap, b.overlap);
-      EXPECT_EQ(a.T_query_match.matrix(), b.T_query_match.matrix());
-    }
-    const auto pa = c->corrected_poses(), pb = oracle.corrected_poses();
-    ASSERT_EQ(pa.size(), pb.size());
-    for (std::size_t i = 0; i < pa.size(); ++i) EXPECT_EQ(pa[i].T_cam_world, pb[i].T_cam_world);
+    EXPECT_TRUE(test::same_loops(c->loops(), oracle.loops()));
+    EXPECT_TRUE(test::same_poses(c->corrected_poses(), oracle.corrected_poses()));
     const std::vector<PlaceCloud> ca = c->place_clouds(), cb = oracle.place_clouds();
     ASSERT_EQ(ca.size(), cb.size());
     for (std::size_t i = 0; i < ca.size(); ++i) {

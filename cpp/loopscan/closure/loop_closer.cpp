@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 #include <unordered_map>
+#include <utility>
 
 #include <Eigen/SVD>
 
@@ -262,19 +263,14 @@ QueryPlacement LoopCloser::placement_of(const Loop& loop) {
 }
 
 const TargetCloud& LoopCloser::QueryCloud::get() {
-  if (!target) {
-    const StageClock::time_point t0 = StageClock::now();
-    target.emplace(voxels, normals);
-    build_ms += ms_since(t0);
-  }
+  if (!target) target.emplace(voxels, normals);
   return *target;
 }
 
 const PlaceCloud& LoopCloser::place_cloud(std::size_t index) const {
   StoredCloud& stored = clouds_[index];
   if (!stored.voxels.empty()) {
-    stored.cloud = to_place_cloud(TargetCloud(std::move(stored.voxels), config_.normals));
-    stored.voxels = Points3f();
+    stored.cloud = to_place_cloud(TargetCloud(std::exchange(stored.voxels, {}), config_.normals));
     --unclassified_;
   }
   return stored.cloud;
@@ -290,7 +286,7 @@ std::vector<PlaceCloud> LoopCloser::place_clouds() const {
 std::vector<Loop> LoopCloser::verify(QueryCloud& query, const BirdsEyeGrid* birds_eye,
                                      int keyframe_id, const std::vector<Proposal>& proposals,
                                      std::size_t& last_place_index,
-                                     std::vector<QueryPlacement>& earlier, double& cloud_ms) {
+                                     std::vector<QueryPlacement>& earlier) {
   std::vector<Loop> out;
   for (const Proposal& proposal : proposals) {
     const Candidate& c = proposal.candidate;
@@ -304,11 +300,14 @@ std::vector<Loop> LoopCloser::verify(QueryCloud& query, const BirdsEyeGrid* bird
     // finds slid alignments of a repeating street as readily as the true one (on the reverse
     // route, places 15 m away aligned 7 m slid and passed).
     const BirdsEyeGrid* grid = proposal.predicted ? birds_eye : nullptr;
-    const TargetCloud& target = query.get();
-    const StageClock::time_point t0 = StageClock::now();
-    const PlaceCloud& place = place_cloud(c.index);
-    cloud_ms += ms_since(t0);
-    Loop loop = verify_candidate(target, place, guesses, verify_config, grid);
+    const TargetCloud* target = nullptr;
+    const PlaceCloud* place = nullptr;
+    {
+      const ScopedTimer timer(times_.cloud);
+      target = &query.get();
+      place = &place_cloud(c.index);
+    }
+    Loop loop = verify_candidate(*target, *place, guesses, verify_config, grid);
     loop.nearby = proposal.predicted.has_value();
     loop.query = keyframe_id;
     loop.match = c.place;
@@ -431,7 +430,7 @@ KeyframeClosure LoopCloser::integrate(PreparedKeyframe prepared) {
 void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
   const KeyframePose& keyframe = prepared.keyframe;
   Points3f voxels;
-  QueryCloud query{voxels, config_.normals, std::nullopt, 0.0};
+  QueryCloud query{voxels, config_.normals, std::nullopt};
   StoredCloud stored;
   std::optional<BirdsEyeGrid> birds_eye;
   {
@@ -440,13 +439,12 @@ void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
     if (config_.verify.birds_eye.enabled) {  // the grid needs the classified cloud now
       stored.cloud = to_place_cloud(query.get());
       birds_eye.emplace(stored.cloud, config_.verify.birds_eye);
-      query.build_ms = 0;  // timed here already
     }
   }
   ++described_;
   ++times_.described;
   // Verify the candidates, confirm by consistency.
-  double cloud_ms = 0;  // classifying map places on their first use: the cloud stage's
+  const double cloud_before = times_.cloud;  // verify() times the clouds it builds as cloud
   {
     const ScopedTimer timer(times_.verify);
     std::size_t index = 0;  // database place of the last verification
@@ -454,12 +452,11 @@ void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
     for (const Candidate& c : out.candidates) proposals.push_back({c, std::nullopt});
     const BirdsEyeGrid* grid = birds_eye ? &*birds_eye : nullptr;
     std::vector<QueryPlacement> earlier;  // where each verified candidate put the query
-    out.verified = verify(query, grid, keyframe.id, proposals, index, earlier, cloud_ms);
+    out.verified = verify(query, grid, keyframe.id, proposals, index, earlier);
     if (out.verified.empty() || out.verified.back().verdict != Verdict::Accepted) {
       const std::vector<Loop> nearby =
           verify(query, grid, keyframe.id,
-                 nearby_places(keyframe.id, prepared.ordinal, out.candidates), index, earlier,
-                 cloud_ms);
+                 nearby_places(keyframe.id, prepared.ordinal, out.candidates), index, earlier);
       out.verified.insert(out.verified.end(), nearby.begin(), nearby.end());
     }
     if (!out.verified.empty()) {
@@ -474,9 +471,7 @@ void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
       loops_.push_back(v);
     }
   }
-  cloud_ms += query.build_ms;
-  times_.verify -= cloud_ms;
-  times_.cloud += cloud_ms;
+  times_.verify -= times_.cloud - cloud_before;
   // Loop edges, and a solve when the revisit is new (or enough keyframes passed).
   {
     const ScopedTimer timer(times_.graph);

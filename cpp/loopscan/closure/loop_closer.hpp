@@ -223,12 +223,12 @@ class LoopCloser {
     const Points3f& voxels;
     const NormalConfig& normals;
     std::optional<TargetCloud> target;
-    double build_ms = 0;
     const TargetCloud& get();
   };
+  // Builds what it needs of the clouds on the cloud stage's clock.
   std::vector<Loop> verify(QueryCloud& query, const BirdsEyeGrid* birds_eye, int keyframe_id,
                            const std::vector<Proposal>& proposals, std::size_t& last_place_index,
-                           std::vector<QueryPlacement>& earlier, double& cloud_ms);
+                           std::vector<QueryPlacement>& earlier);
   // A map place's cloud, classified (a plane fit per point) on its first use.
   const PlaceCloud& place_cloud(std::size_t index) const;
   int root(int run);  // the representative of the runs joined by loops
