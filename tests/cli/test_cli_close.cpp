@@ -120,6 +120,13 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
 TEST(CliClose, ASecondSessionIsPlacedInTheSavedMap) {
   const path map_out = drives() / "map";
   ASSERT_EQ(test::run(close_args("summer", map_out)).code, 0);
+  // The places no verification needed, classified for the map on 3 threads: the same map.
+  const path threaded = drives() / "map_threaded";
+  ASSERT_EQ(test::run(close_args("summer", threaded) + " --threads 3").code, 0);
+  EXPECT_TRUE(test::file_bytes(threaded / "map.db") == test::file_bytes(map_out / "map.db"));
+  const nlohmann::json mt = nlohmann::json::parse(test::file_bytes(threaded / "metrics.json"));
+  EXPECT_EQ(mt["map_clouds"]["threads"].get<int>(), 3);
+  EXPECT_GT(mt["map_clouds"]["ms"].get<double>(), 0);
   const path out = drives() / "winter_out";
   const test::CliResult r =
       test::run(close_args("winter", out) + " --map " + (map_out / "map.db").string());
@@ -180,7 +187,11 @@ TEST(CliClose, BadInputIsRefusedWithNothingWritten) {
                 (dir / "o3").string());
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("poses.txt:6"), std::string::npos) << r.output;
-  for (const char* o : {"o1", "o2", "o3"}) EXPECT_FALSE(test::fs::exists(dir / o)) << o;
+  // No thread to classify with.
+  r = test::run(close_args("summer", dir / "o4") + " --threads 0");
+  EXPECT_NE(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("--threads"), std::string::npos) << r.output;
+  for (const char* o : {"o1", "o2", "o3", "o4"}) EXPECT_FALSE(test::fs::exists(dir / o)) << o;
   EXPECT_FALSE(test::has_temp_files(dir));
 }
 

@@ -219,13 +219,14 @@ TEST(LoopCloser, PlacesClassifiedOnFirstUseAreThoseClassifiedAtOnce) {
   for (const closure::LoopCloser* c : {&lazy, &capped}) {
     EXPECT_TRUE(test::same_loops(c->loops(), oracle.loops()));
     EXPECT_TRUE(test::same_poses(c->corrected_poses(), oracle.corrected_poses()));
-    const std::vector<PlaceCloud> ca = c->place_clouds(), cb = oracle.place_clouds();
+    // The lazy closer classifies its many waiting places on 3 threads: the same clouds.
+    const std::vector<PlaceCloud> ca = c->place_clouds(c == &lazy ? 3 : 1), cb = oracle.place_clouds();
     ASSERT_EQ(ca.size(), cb.size());
     for (std::size_t i = 0; i < ca.size(); ++i) {
       EXPECT_EQ(ca[i].structure, cb[i].structure) << i;
       EXPECT_TRUE(ca[i].points == cb[i].points) << i;
     }
-    EXPECT_EQ(c->unclassified_places(), 0u);  // place_clouds() classified the rest
+    EXPECT_EQ(c->unclassified_places(), 0u);  // place_clouds classified the rest
   }
 }
 

@@ -11,6 +11,7 @@
 
 #include "loopscan/core/database/database_checks.hpp"
 #include "loopscan/core/descriptors/describe.hpp"
+#include "loopscan/core/parallel.hpp"
 #include "loopscan/core/timing.hpp"
 
 namespace loopscan::closure {
@@ -267,19 +268,33 @@ const TargetCloud& LoopCloser::QueryCloud::get() {
   return *target;
 }
 
+void LoopCloser::classify(StoredCloud& stored) const {
+  stored.cloud = to_place_cloud(TargetCloud(std::exchange(stored.voxels, {}), config_.normals));
+}
+
 const PlaceCloud& LoopCloser::place_cloud(std::size_t index) const {
   StoredCloud& stored = clouds_[index];
   if (!stored.voxels.empty()) {
-    stored.cloud = to_place_cloud(TargetCloud(std::exchange(stored.voxels, {}), config_.normals));
+    classify(stored);
     --unclassified_;
   }
   return stored.cloud;
 }
 
-std::vector<PlaceCloud> LoopCloser::place_clouds() const {
+std::vector<PlaceCloud> LoopCloser::place_clouds(int threads) const {
+  std::vector<StoredCloud*> waiting;
+  for (StoredCloud& stored : clouds_) {
+    if (!stored.voxels.empty()) waiting.push_back(&stored);
+  }
+  const std::size_t n = waiting.size();
+  const std::size_t workers = std::max<std::size_t>(1, std::min(std::size_t(std::max(threads, 1)), n));
+  run_on_threads(int(workers), [&](int t) {
+    for (std::size_t i = std::size_t(t); i < n; i += workers) classify(*waiting[i]);
+  });
+  unclassified_ -= n;
   std::vector<PlaceCloud> out;
   out.reserve(clouds_.size());
-  for (std::size_t i = 0; i < clouds_.size(); ++i) out.push_back(place_cloud(i));
+  for (const StoredCloud& stored : clouds_) out.push_back(stored.cloud);
   return out;
 }
 

@@ -183,8 +183,9 @@ class LoopCloser {
   Database corrected_map() const;
   const std::vector<Loop>& loops() const { return loops_; }  // every verification, in order
   const Database& database() const { return db_; }
-  // Every place's cloud, classifying those no verification has needed yet.
-  std::vector<PlaceCloud> place_clouds() const;
+  // Every place's cloud, classifying those no verification has needed yet on `threads`
+  // threads (the same clouds whatever the count: each place is classified alone).
+  std::vector<PlaceCloud> place_clouds(int threads = 1) const;
   // Places still kept as voxel clouds (CloudConfig::max_unclassified_places).
   std::size_t unclassified_places() const { return unclassified_; }
   const StageTimes& times() const { return times_; }
@@ -257,6 +258,8 @@ class LoopCloser {
     PlaceCloud cloud;
     Points3f voxels;  // non-empty: not classified yet
   };
+  // Classifies a place kept as voxels (touches nothing else: safe on several threads at once).
+  void classify(StoredCloud& stored) const;
   mutable std::vector<StoredCloud> clouds_;
   mutable std::size_t unclassified_ = 0;         // places whose voxels are kept
   mutable std::size_t oldest_unclassified_ = 0;  // no unclassified place before this index
