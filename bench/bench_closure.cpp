@@ -302,9 +302,10 @@ BENCHMARK(BM_GraphDriveOnline)
 // The whole closer over the k06 drive with `close`'s default configuration, one thread: each
 // stage's milliseconds from the closer's own stage clocks, the means metrics.json reports (the
 // per-verification figure counts every verified candidate, accepted or not).
-void BM_CloseDrive(benchmark::State& state) {
+void BM_CloseDrive(benchmark::State& state) {  // argument: the closer's threads
   const Fixture& f = fixture();  // read before the timing starts
-  const closure::LoopCloserConfig config = loop_closer_config(Configuration::defaults());
+  closure::LoopCloserConfig config = loop_closer_config(Configuration::defaults());
+  config.threads = int(state.range(0));
   closure::StageTimes t;
   std::size_t accepted = 0;
   for (auto _ : state) {
@@ -332,7 +333,7 @@ void BM_CloseDrive(benchmark::State& state) {
   state.counters["verifications"] = t.verifications;
   state.counters["loops"] = double(accepted);
 }
-BENCHMARK(BM_CloseDrive)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_CloseDrive)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 }  // namespace loopscan

@@ -13,15 +13,22 @@ namespace {
 closure::LoopCloserConfig closer_config(const std::optional<std::string>& method,
                                         const std::optional<std::string>& mode,
                                         const std::optional<double>& range_m,
-                                        const std::optional<std::string>& config) {
-  if (!config) {
-    return closure::LoopCloserConfig::make(parse_method(method.value_or("sc")),
-                                           parse_mode(mode.value_or("default")),
-                                           range_m.value_or(45.0));
+                                        const std::optional<std::string>& config, int threads) {
+  if (threads < 1 || threads > 256) {
+    throw py::value_error("threads: expected 1 to 256, got " + std::to_string(threads));
   }
-  const Configuration c = load_python_configuration(*config, method, mode, range_m);
-  validate_loop_closing(c);
-  return loop_closer_config(c);
+  closure::LoopCloserConfig out;
+  if (!config) {
+    out = closure::LoopCloserConfig::make(parse_method(method.value_or("sc")),
+                                          parse_mode(mode.value_or("default")),
+                                          range_m.value_or(45.0));
+  } else {
+    const Configuration c = load_python_configuration(*config, method, mode, range_m);
+    validate_loop_closing(c);
+    out = loop_closer_config(c);
+  }
+  out.threads = threads;
+  return out;
 }
 
 closure::BackgroundConfig::WhenFull parse_when_full(const std::string& name) {
@@ -68,13 +75,15 @@ void bind_closure(py::module_& m) {
                          "Online loop closing: recognition, ICP verification, pose graph.")
       .def(py::init([](const std::optional<std::string>& method,
                        const std::optional<std::string>& mode, const std::optional<double>& range_m,
-                       const std::optional<std::string>& config) {
-             return LoopCloser(closer_config(method, mode, range_m, config));
+                       const std::optional<std::string>& config, int threads) {
+             return LoopCloser(closer_config(method, mode, range_m, config, threads));
            }),
            py::arg("method") = py::none(), py::arg("mode") = py::none(),
            py::arg("range_m") = py::none(), py::arg("config") = py::none(),
+           py::arg("threads") = 1,
            "As Recognizer: method (default sc), mode, range_m (default 45), or a configuration "
-           "file (the CLI's --config) with its closure section.")
+           "file (the CLI's --config) with its closure section; threads split each candidate's "
+           "alignments (the same loops whatever the count).")
       .def("add_keyframe", &add_keyframe_arrays<LoopCloser>, py::arg("keyframe"),
            py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false)
       .def("finish",
@@ -94,16 +103,16 @@ void bind_closure(py::module_& m) {
       .def(py::init([](const std::optional<std::string>& method,
                        const std::optional<std::string>& mode, const std::optional<double>& range_m,
                        const std::optional<std::string>& config, int queue_capacity,
-                       const std::string& when_full) {
+                       const std::string& when_full, int threads) {
              closure::BackgroundConfig background;
              background.queue_capacity = queue_capacity;
              background.when_full = parse_when_full(when_full);
              return std::make_unique<BackgroundLoopCloser>(
-                 closer_config(method, mode, range_m, config), background);
+                 closer_config(method, mode, range_m, config, threads), background);
            }),
            py::arg("method") = py::none(), py::arg("mode") = py::none(),
            py::arg("range_m") = py::none(), py::arg("config") = py::none(),
-           py::arg("queue_capacity") = 32, py::arg("when_full") = "skip",
+           py::arg("queue_capacity") = 32, py::arg("when_full") = "skip", py::arg("threads") = 1,
            "As LoopCloser, plus the queue: when it is full, 'skip' leaves the oldest waiting "
            "keyframe unverified (it still joins the graph), 'wait' blocks add_keyframe.")
       .def("add_keyframe", &add_keyframe_arrays<BackgroundLoopCloser>, py::arg("keyframe"),

@@ -120,13 +120,18 @@ TEST(CliClose, WritesCorrectedPosesLoopsAndMetricsEqualToTheOnlineCloser) {
 TEST(CliClose, ASecondSessionIsPlacedInTheSavedMap) {
   const path map_out = drives() / "map";
   ASSERT_EQ(test::run(close_args("summer", map_out)).code, 0);
-  // The places no verification needed, classified for the map on 3 threads: the same map.
+  // Candidates aligned and places classified on 3 threads: the same loops and map.
   const path threaded = drives() / "map_threaded";
-  ASSERT_EQ(test::run(close_args("summer", threaded) + " --threads 3").code, 0);
-  EXPECT_TRUE(test::file_bytes(threaded / "map.db") == test::file_bytes(map_out / "map.db"));
+  ASSERT_EQ(test::run(close_args("summer", threaded) +
+                      test::config(drives(), "threaded", "closure:\n  threads: 3\n"))
+                .code,
+            0);
+  for (const char* f : {"map.db", "loops.csv", "poses_closed.txt"}) {
+    EXPECT_TRUE(test::file_bytes(threaded / f) == test::file_bytes(map_out / f)) << f;
+  }
   const nlohmann::json mt = nlohmann::json::parse(test::file_bytes(threaded / "metrics.json"));
-  EXPECT_EQ(mt["map_clouds"]["threads"].get<int>(), 3);
-  EXPECT_GT(mt["map_clouds"]["ms"].get<double>(), 0);
+  EXPECT_EQ(mt["threads"].get<int>(), 3);
+  EXPECT_GT(mt["map_clouds_ms"].get<double>(), 0);
   const path out = drives() / "winter_out";
   const test::CliResult r =
       test::run(close_args("winter", out) + " --map " + (map_out / "map.db").string());
@@ -187,10 +192,12 @@ TEST(CliClose, BadInputIsRefusedWithNothingWritten) {
                 (dir / "o3").string());
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("poses.txt:6"), std::string::npos) << r.output;
-  // No thread to classify with.
-  r = test::run(close_args("summer", dir / "o4") + " --threads 0");
-  EXPECT_NE(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find("--threads"), std::string::npos) << r.output;
+  // No thread to close with: the configuration file's line is named.
+  r = test::run(close_args("summer", dir / "o4") +
+                test::config(dir, "no_threads", "closure:\n  threads: 0\n"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("no_threads"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("threads"), std::string::npos) << r.output;
   for (const char* o : {"o1", "o2", "o3", "o4"}) EXPECT_FALSE(test::fs::exists(dir / o)) << o;
   EXPECT_FALSE(test::has_temp_files(dir));
 }

@@ -62,7 +62,10 @@ TEST(BackgroundLoopCloser, WaitingForASlotGivesTheSynchronousResults) {
     BackgroundConfig bc;
     bc.queue_capacity = capacity;
     bc.when_full = BackgroundConfig::WhenFull::Wait;
-    BackgroundLoopCloser background(config, bc);
+    // Its candidates aligned and its places classified on several threads.
+    LoopCloserConfig threaded_config = config;
+    threaded_config.threads = capacity + 1;
+    BackgroundLoopCloser background(threaded_config, bc);
     std::vector<int> closed_in_order;
     background.set_on_closed([&](const KeyframeClosure& c) {
       closed_in_order.push_back(c.keyframe);
@@ -72,8 +75,7 @@ TEST(BackgroundLoopCloser, WaitingForASlotGivesTheSynchronousResults) {
     EXPECT_TRUE(same_loops(sync.loops(), background.loops())) << "capacity " << capacity;
     EXPECT_TRUE(same_poses(sync.corrected_poses(), background.corrected_poses()));
     EXPECT_EQ(background.corrected_map().size(), sync.database().size());
-    // The places no verification needed, classified on several threads: the same clouds.
-    const std::vector<PlaceCloud> threaded = background.place_clouds(capacity + 1),
+    const std::vector<PlaceCloud> threaded = background.place_clouds(),
                                   serial = sync.place_clouds();
     ASSERT_EQ(threaded.size(), serial.size());
     for (std::size_t i = 0; i < serial.size(); ++i) {

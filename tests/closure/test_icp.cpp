@@ -68,6 +68,48 @@ TEST(Icp, RecoversRandomTransformsWithinTheBasin) {
   }
 }
 
+// On several threads (the starts, then the finalists, aligned apart; each query normal fitted
+// once, by the first thread that needs it) verification gives the loop one thread gives, to the
+// bit; so do the plane fits.
+TEST(Icp, ThreadsGiveTheSameLoopAndNormals) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int accepted = 0;
+  for (int trial = 0; trial < 6; ++trial) {
+    const Eigen::Isometry3d T =
+        pose(30 * u(rng), 2 * u(rng), 2 * u(rng), Eigen::Vector3d(4 * u(rng), 0.3 * u(rng), 6 * u(rng)));
+    const auto [target_points, source] = two_views(300 + trial, T);
+    const closure::TargetCloud lazy(target_points), threaded(target_points);
+    const double yaw = closure::yaw_of(T) + 5 * M_PI / 180 * u(rng);
+    const std::vector<Eigen::Isometry3d> guesses = {closure::yaw_rotation(yaw),
+                                                    closure::yaw_rotation(yaw + M_PI)};
+    const closure::Loop one = closure::verify_candidate(lazy, source, guesses);
+    const closure::Loop three = closure::verify_candidate(threaded, source, guesses, {}, nullptr, 3);
+    SCOPED_TRACE(trial);
+    EXPECT_EQ(three.verdict, one.verdict);
+    EXPECT_TRUE(three.T_query_match.matrix() == one.T_query_match.matrix());
+    EXPECT_EQ(three.overlap, one.overlap);
+    EXPECT_EQ(three.rmse_m, one.rmse_m);
+    EXPECT_EQ(three.iterations, one.iterations);
+    accepted += one.verdict == closure::Verdict::Accepted;
+    for (std::size_t i = 0; i < target_points.size(); ++i) {
+      ASSERT_EQ(threaded.has_normal(int(i)), lazy.has_normal(int(i))) << i;
+      ASSERT_TRUE(threaded.normal(int(i)) == lazy.normal(int(i))) << i;
+    }
+    // A place's classification with its plane fits on 3 threads (every few points only).
+    const closure::TargetCloud fresh(target_points);
+    const closure::PlaceCloud a = closure::to_place_cloud(fresh, 500, 0.9, 3);
+    int fitted = 0;
+    for (std::size_t i = 0; i < target_points.size(); ++i) fitted += fresh.normal_fitted(int(i));
+    EXPECT_GT(fitted, 500);
+    EXPECT_LT(std::size_t(fitted), target_points.size() / 2);  // an even subset only
+    const closure::PlaceCloud b = closure::to_place_cloud(closure::TargetCloud(target_points), 500);
+    EXPECT_EQ(a.structure, b.structure);
+    EXPECT_TRUE(a.points == b.points);
+  }
+  EXPECT_GE(accepted, 4);  // mostly real alignments, not refusals
+}
+
 // The default convergence thresholds stop a stage once its steps are below the voxels' noise:
 // against ICP that runs every stage to its 12 iterations (thresholds of 10 um and 1 urad,
 // never met), it lands within a tenth of the 0.5 m voxels and 0.05 degrees, with the same

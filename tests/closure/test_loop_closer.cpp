@@ -219,8 +219,7 @@ TEST(LoopCloser, PlacesClassifiedOnFirstUseAreThoseClassifiedAtOnce) {
   for (const closure::LoopCloser* c : {&lazy, &capped}) {
     EXPECT_TRUE(test::same_loops(c->loops(), oracle.loops()));
     EXPECT_TRUE(test::same_poses(c->corrected_poses(), oracle.corrected_poses()));
-    // The lazy closer classifies its many waiting places on 3 threads: the same clouds.
-    const std::vector<PlaceCloud> ca = c->place_clouds(c == &lazy ? 3 : 1), cb = oracle.place_clouds();
+    const std::vector<PlaceCloud> ca = c->place_clouds(), cb = oracle.place_clouds();
     ASSERT_EQ(ca.size(), cb.size());
     for (std::size_t i = 0; i < ca.size(); ++i) {
       EXPECT_EQ(ca[i].structure, cb[i].structure) << i;
@@ -228,6 +227,36 @@ TEST(LoopCloser, PlacesClassifiedOnFirstUseAreThoseClassifiedAtOnce) {
     }
     EXPECT_EQ(c->unclassified_places(), 0u);  // place_clouds classified the rest
   }
+}
+
+// Alignments and plane fits on several threads: the same verifications, poses and clouds.
+TEST(LoopCloser, ThreadsGiveTheSameLoopsPosesAndClouds) {
+  const Drive& d = summer();
+  closure::LoopCloserConfig config = closure::LoopCloserConfig::make(Method::ScanContext);
+  closure::LoopCloserConfig threaded = config;
+  threaded.threads = 3;
+  closure::LoopCloser one(config), three(threaded);
+  stream(d, [&](const KeyframePose& k, const IdPoint* p, std::size_t n) {
+    one.add_keyframe(k, p, n);
+    three.add_keyframe(k, p, n);
+  });
+  one.finish();
+  three.finish();
+  ASSERT_GT(std::count_if(one.loops().begin(), one.loops().end(),
+                          [](const closure::Loop& l) { return l.verdict == closure::Verdict::Accepted; }),
+            3);
+  EXPECT_TRUE(test::same_loops(three.loops(), one.loops()));
+  EXPECT_TRUE(test::same_poses(three.corrected_poses(), one.corrected_poses()));
+  EXPECT_GT(three.unclassified_places(), 3u);  // the map's waiting places, on threads too
+  const std::vector<PlaceCloud> a = three.place_clouds(), b = one.place_clouds();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].structure, b[i].structure) << i;
+    EXPECT_TRUE(a[i].points == b[i].points) << i;
+  }
+  closure::LoopCloserConfig none = config;
+  none.threads = 0;
+  EXPECT_THROW(closure::LoopCloser{none}, std::invalid_argument);
 }
 
 TEST(LoopCloser, ASecondSessionJoinsTheSavedMapAtItsFirstLoop) {

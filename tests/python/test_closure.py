@@ -39,7 +39,8 @@ def test_background_closer_gives_the_synchronous_loops_and_releases_the_gil():
     import threading
     (ids, T), (pid, xyzg) = loop_drive(130)
     sync = loopscan.LoopCloser(method="sc")
-    background = loopscan.BackgroundLoopCloser(method="sc", queue_capacity=4, when_full="wait")
+    background = loopscan.BackgroundLoopCloser(method="sc", queue_capacity=4, when_full="wait",
+                                               threads=2)  # its alignments on 2 threads
     ticks = []
     stop = threading.Event()
     # A Python thread keeps running while the worker verifies: add_keyframe, poll and finish
@@ -70,3 +71,5 @@ def test_background_closer_gives_the_synchronous_loops_and_releases_the_gil():
     assert len(ticks) > 10
     with pytest.raises(ValueError, match="when_full: expected 'skip' or 'wait'"):
         loopscan.BackgroundLoopCloser(when_full="drop")
+    with pytest.raises(ValueError, match="threads: expected 1 to 256, got 0"):
+        loopscan.LoopCloser(threads=0)

@@ -23,7 +23,6 @@ struct CloseArgs {
   ConfigFlags config;
   std::string poses, points, out, gt, reset_ids, map, map_gt;
   bool write_points = false, quiet = false;
-  int threads = 1;
 };
 
 void run_close(const CloseArgs& a) {
@@ -76,7 +75,7 @@ void run_close(const CloseArgs& a) {
         point_reader.read_until(keyframe_id, buffer);
         return std::pair<const IdPoint*, std::size_t>(buffer.data(), buffer.size());
       },
-      resets, !a.quiet, closure_queue(c), map ? &*map : nullptr, a.threads);
+      resets, !a.quiet, closure_queue(c), map ? &*map : nullptr);
   std::vector<IdPoint> after_last_keyframe;  // read to the end, so that a bad line is reported
   point_reader.read_until(std::numeric_limits<int>::max(), after_last_keyframe);
   const nlohmann::json m = write_closure_outputs(a.out, run, c, gt, map_gt).metrics;
@@ -123,11 +122,6 @@ void add_close_command(CLI::App& app) {
   add_config_option(*cmd, a->config);
   cmd->add_flag("--write-points", a->write_points,
                 "also write pts_closed.txt: the points re-expressed with the corrected poses");
-  cmd->add_option("--threads", a->threads,
-                  "threads classifying, for the saved map, the places no verification needed "
-                  "(closing itself runs on one thread)")
-      ->check(CLI::Range(1, 256))
-      ->capture_default_str();
   cmd->add_flag("--quiet", a->quiet, "no progress line");
   run_writing_dir(cmd, a, run_close);
 }

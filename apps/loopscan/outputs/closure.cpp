@@ -218,7 +218,7 @@ void replay(Closer& closer, const std::vector<KeyframePose>& poses, const Keyfra
   run.anchored_at = closer.anchored_at();
   run.map = closer.corrected_map();
   const auto t0 = std::chrono::steady_clock::now();
-  run.clouds = closer.place_clouds(run.cloud_threads);
+  run.clouds = closer.place_clouds();
   run.clouds_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -236,12 +236,12 @@ KeyframePoints points_in_memory(const std::vector<IdPoint>& points) {
 ClosureRun run_closer(const closure::LoopCloserConfig& config,
                       const std::vector<KeyframePose>& poses, const KeyframePoints& points,
                       const std::vector<int>& reset_ids, bool progress, int background_queue,
-                      SavedMap* map, int cloud_threads) {
+                      SavedMap* map) {
   const auto t0 = std::chrono::steady_clock::now();
   ClosureRun run;
   run.input = poses;
   run.resets = reset_ids;
-  run.cloud_threads = std::max(1, cloud_threads);
+  run.threads = config.threads;
   std::sort(run.resets.begin(), run.resets.end());
   run.session = config.recognition.session;
   Database places = map ? std::move(map->places) : Database(map_config(config.recognition));
@@ -381,7 +381,8 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
                        {{"p50", latency.p50_ms}, {"p99", latency.p99_ms}, {"max", latency.max_ms}}},
                       {"peak_memory_mb", run.peak_memory_mb},
                       {"background", run.background},
-                      {"map_clouds", {{"ms", run.clouds_ms}, {"threads", run.cloud_threads}}},
+                      {"threads", run.threads},
+                      {"map_clouds_ms", run.clouds_ms},
                       {"queue_waits", {{"count", run.queue_waits}, {"ms", run.queue_wait_ms}}},
                       {"map_places", run.map.size()},
                       {"linked_keyframes", tm.linked},

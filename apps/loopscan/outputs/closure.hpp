@@ -37,10 +37,9 @@ struct ClosureRun {
   int anchored_at = -1;
   Database map;  // every place (a saved map's and this session's, corrected)
   std::vector<PlaceCloud> clouds;
-  // Classifying, for the map, the places no verification needed (part of total_ms), on this
-  // many threads.
+  // Classifying, for the map, the places no verification needed (part of total_ms).
   double clouds_ms = 0;
-  int cloud_threads = 1;
+  int threads = 1;  // the closer's (closure::LoopCloserConfig::threads)
 };
 
 struct SavedMap {
@@ -56,8 +55,7 @@ std::vector<Eigen::Vector3d> positions(const std::vector<KeyframePose>& poses);
 // 0 runs a LoopCloser on this thread; N > 0 a BackgroundLoopCloser with a queue of N, fed as
 // fast as its worker takes the keyframes (closure_queue(c) gives the configured one).
 // `map` (optional): a saved map this session continues (config.recognition.session must be
-// new to it). `cloud_threads`: threads classifying the map's place clouds at the end (closing
-// itself is sequential).
+// new to it).
 // Each keyframe's points as the VO handed them over: the points of the keyframe of this id (and
 // of any earlier one not asked for), valid until the next call; asked in keyframe order.
 using KeyframePoints = std::function<std::pair<const IdPoint*, std::size_t>(int keyframe_id)>;
@@ -65,7 +63,7 @@ KeyframePoints points_in_memory(const std::vector<IdPoint>& points);  // sorted 
 ClosureRun run_closer(const closure::LoopCloserConfig& config,
                       const std::vector<KeyframePose>& poses, const KeyframePoints& points,
                       const std::vector<int>& reset_ids, bool progress, int background_queue,
-                      SavedMap* map = nullptr, int cloud_threads = 1);
+                      SavedMap* map = nullptr);
 int closure_queue(const Configuration& c);
 
 struct GroundTruth {

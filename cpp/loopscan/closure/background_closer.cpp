@@ -223,8 +223,8 @@ StageTimes BackgroundLoopCloser::times() const {
 Database BackgroundLoopCloser::corrected_map() const {
   return read([](const LoopCloser& c) { return c.corrected_map(); });
 }
-std::vector<PlaceCloud> BackgroundLoopCloser::place_clouds(int threads) const {
-  return read([threads](const LoopCloser& c) { return c.place_clouds(threads); });
+std::vector<PlaceCloud> BackgroundLoopCloser::place_clouds() const {
+  return read([](const LoopCloser& c) { return c.place_clouds(); });
 }
 bool BackgroundLoopCloser::anchored() const {
   return read([](const LoopCloser& c) { return c.anchored(); });

@@ -86,7 +86,7 @@ class BackgroundLoopCloser {
   std::vector<Loop> loops() const;
   StageTimes times() const;
   Database corrected_map() const;
-  std::vector<PlaceCloud> place_clouds(int threads = 1) const;
+  std::vector<PlaceCloud> place_clouds() const;
   bool anchored() const;
   int anchored_at() const;
   const LoopCloserConfig& config() const { return closer_.config(); }

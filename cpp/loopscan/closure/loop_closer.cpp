@@ -70,6 +70,9 @@ void validate(const LoopCloserConfig& c) {
         "LoopCloserConfig: the loop closer takes forward-only scans (imitation.lookahead_m = 0): "
         "it verifies each keyframe and adds it to the graph as the keyframe arrives");
   }
+  if (c.threads < 1 || c.threads > 256) {
+    throw std::invalid_argument("loop closer config: threads in [1, 256]");
+  }
   validate(c.cloud);
   validate(c.verify);
   validate(c.graph);
@@ -268,30 +271,28 @@ const TargetCloud& LoopCloser::QueryCloud::get() {
   return *target;
 }
 
-void LoopCloser::classify(StoredCloud& stored) const {
-  stored.cloud = to_place_cloud(TargetCloud(std::exchange(stored.voxels, {}), config_.normals));
+void LoopCloser::classify(StoredCloud& stored, int threads) const {
+  stored.cloud = to_place_cloud(TargetCloud(std::exchange(stored.voxels, {}), config_.normals),
+                                kPlaceCloudPoints, kGroundMinVertical, threads);
 }
 
 const PlaceCloud& LoopCloser::place_cloud(std::size_t index) const {
   StoredCloud& stored = clouds_[index];
   if (!stored.voxels.empty()) {
-    classify(stored);
+    classify(stored, config_.threads);
     --unclassified_;
   }
   return stored.cloud;
 }
 
-std::vector<PlaceCloud> LoopCloser::place_clouds(int threads) const {
+std::vector<PlaceCloud> LoopCloser::place_clouds() const {
   std::vector<StoredCloud*> waiting;
   for (StoredCloud& stored : clouds_) {
     if (!stored.voxels.empty()) waiting.push_back(&stored);
   }
-  const std::size_t n = waiting.size();
-  const std::size_t workers = std::max<std::size_t>(1, std::min(std::size_t(std::max(threads, 1)), n));
-  run_on_threads(int(workers), [&](int t) {
-    for (std::size_t i = std::size_t(t); i < n; i += workers) classify(*waiting[i]);
-  });
-  unclassified_ -= n;
+  for_each_index(waiting.size(), config_.threads,
+                 [&](std::size_t i) { classify(*waiting[i], 1); });
+  unclassified_ -= waiting.size();
   std::vector<PlaceCloud> out;
   out.reserve(clouds_.size());
   for (const StoredCloud& stored : clouds_) out.push_back(stored.cloud);
@@ -322,7 +323,7 @@ std::vector<Loop> LoopCloser::verify(QueryCloud& query, const BirdsEyeGrid* bird
       target = &query.get();
       place = &place_cloud(c.index);
     }
-    Loop loop = verify_candidate(*target, *place, guesses, verify_config, grid);
+    Loop loop = verify_candidate(*target, *place, guesses, verify_config, grid, config_.threads);
     loop.nearby = proposal.predicted.has_value();
     loop.query = keyframe_id;
     loop.match = c.place;
@@ -452,7 +453,8 @@ void LoopCloser::close_place(PreparedKeyframe& prepared, KeyframeClosure& out) {
     const ScopedTimer timer(times_.cloud);
     voxels = voxel_cloud(prepared.raw, config_.cloud);
     if (config_.verify.birds_eye.enabled) {  // the grid needs the classified cloud now
-      stored.cloud = to_place_cloud(query.get());
+      stored.cloud =
+          to_place_cloud(query.get(), kPlaceCloudPoints, kGroundMinVertical, config_.threads);
       birds_eye.emplace(stored.cloud, config_.verify.birds_eye);
     }
   }

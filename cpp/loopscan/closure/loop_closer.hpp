@@ -82,6 +82,10 @@ struct LoopCloserConfig {
   // current estimate already agrees with wait; any other (a new revisit) is solved at once,
   // through the graph's cost gate.
   int min_keyframes_between_solves = 10;
+  // Threads for a candidate's alignments (its ICP starts, then its finalists), a place's plane
+  // fits and the map's waiting places: the same loops, poses and clouds whatever the count.
+  // Candidates are still verified one at a time, in order.
+  int threads = 1;
   static LoopCloserConfig make(Method method, Mode mode = Mode::Default, double range_m = 45.0);
 };
 
@@ -183,9 +187,9 @@ class LoopCloser {
   Database corrected_map() const;
   const std::vector<Loop>& loops() const { return loops_; }  // every verification, in order
   const Database& database() const { return db_; }
-  // Every place's cloud, classifying those no verification has needed yet on `threads`
-  // threads (the same clouds whatever the count: each place is classified alone).
-  std::vector<PlaceCloud> place_clouds(int threads = 1) const;
+  // Every place's cloud, classifying those no verification has needed yet (on config().threads
+  // threads, a place each).
+  std::vector<PlaceCloud> place_clouds() const;
   // Places still kept as voxel clouds (CloudConfig::max_unclassified_places).
   std::size_t unclassified_places() const { return unclassified_; }
   const StageTimes& times() const { return times_; }
@@ -258,8 +262,9 @@ class LoopCloser {
     PlaceCloud cloud;
     Points3f voxels;  // non-empty: not classified yet
   };
-  // Classifies a place kept as voxels (touches nothing else: safe on several threads at once).
-  void classify(StoredCloud& stored) const;
+  // Classifies a place kept as voxels, its plane fits on `threads` threads (touches nothing
+  // else: several places may be classified at once).
+  void classify(StoredCloud& stored, int threads) const;
   mutable std::vector<StoredCloud> clouds_;
   mutable std::size_t unclassified_ = 0;         // places whose voxels are kept
   mutable std::size_t oldest_unclassified_ = 0;  // no unclassified place before this index

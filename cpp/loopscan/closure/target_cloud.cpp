@@ -4,9 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <thread>
 
 #include <Eigen/Eigenvalues>
 #include <nanoflann.hpp>
+
+#include "loopscan/core/parallel.hpp"
 
 namespace loopscan::closure {
 
@@ -160,14 +163,13 @@ TargetCloud::TargetCloud(Points3f points, const NormalConfig& config)
     if (!p.allFinite()) throw std::invalid_argument("target cloud: non-finite point");
   }
   normals_.assign(points_.size(), Eigen::Vector3f::Zero());
-  fitted_.assign(points_.size(), 0);
+  state_ = std::make_unique<std::atomic<std::uint8_t>[]>(points_.size());
   if (!points_.empty()) index_ = std::make_unique<Index>(&points_);
 }
 
 // Plane fit over the nearest neighbours within the radius: the normal is the direction of
 // least spread, kept only when the spread across is small against the spread along.
 void TargetCloud::fit_normal(std::size_t i) const {
-  fitted_[i] = 1;
   const std::size_t k = std::min<std::size_t>(std::size_t(config_.neighbours), points_.size());
   std::uint32_t ids[64];
   float d2[64];
@@ -189,15 +191,41 @@ void TargetCloud::fit_normal(std::size_t i) const {
   normals_[i] = eig.eigenvectors().col(0).cast<float>().normalized();
 }
 
+namespace {
+constexpr std::uint8_t kUnfitted = 0, kFitting = 1, kFitted = 2;
+}
+
+void TargetCloud::ensure_fitted(std::size_t i) const {
+  std::uint8_t s = state_[i].load(std::memory_order_acquire);
+  if (s == kFitted) return;
+  if (s == kUnfitted && state_[i].compare_exchange_strong(s, kFitting, std::memory_order_acquire)) {
+    fit_normal(i);
+    state_[i].store(kFitted, std::memory_order_release);
+    return;
+  }
+  // Another thread is fitting it: a plane fit takes microseconds.
+  while (state_[i].load(std::memory_order_acquire) != kFitted) std::this_thread::yield();
+}
+
+void TargetCloud::fit_normals(int threads, std::size_t stride) const {
+  stride = std::max<std::size_t>(stride, 1);
+  const std::size_t n = (points_.size() + stride - 1) / stride;
+  for_each_index(n, threads, [&](std::size_t k) { ensure_fitted(k * stride); });
+}
+
+bool TargetCloud::normal_fitted(int i) const {
+  return state_[std::size_t(i)].load(std::memory_order_acquire) == kFitted;
+}
+
 bool TargetCloud::has_normal(int i) const {
   const std::size_t k = static_cast<std::size_t>(i);
-  if (!fitted_[k]) fit_normal(k);
+  ensure_fitted(k);
   return normals_[k].squaredNorm() > 0.5f;
 }
 
 const Eigen::Vector3f& TargetCloud::normal(int i) const {
   const std::size_t k = static_cast<std::size_t>(i);
-  if (!fitted_[k]) fit_normal(k);
+  ensure_fitted(k);
   return normals_[k];
 }
 
@@ -206,7 +234,7 @@ TargetCloud::TargetCloud(TargetCloud&& o) noexcept
     : points_(std::move(o.points_)),
       config_(o.config_),
       normals_(std::move(o.normals_)),
-      fitted_(std::move(o.fitted_)),
+      state_(std::move(o.state_)),
       index_(std::move(o.index_)) {
   if (index_) index_->adaptor.points = &points_;  // the moved vector keeps its buffer
 }
@@ -214,7 +242,7 @@ TargetCloud& TargetCloud::operator=(TargetCloud&& o) noexcept {
   points_ = std::move(o.points_);
   config_ = o.config_;
   normals_ = std::move(o.normals_);
-  fitted_ = std::move(o.fitted_);
+  state_ = std::move(o.state_);
   index_ = std::move(o.index_);
   if (index_) index_->adaptor.points = &points_;
   return *this;
@@ -237,10 +265,12 @@ int TargetCloud::nearest(const Eigen::Vector3f& query, float max_squared_distanc
   return static_cast<int>(id);
 }
 
-PlaceCloud to_place_cloud(const TargetCloud& cloud, std::size_t max_points, double min_vertical) {
+PlaceCloud to_place_cloud(const TargetCloud& cloud, std::size_t max_points, double min_vertical,
+                          int threads) {
   Points3f structure, ground;
   // Classify an even subset of about 1.5 x max_points (each needs a plane fit), then cap.
   const std::size_t stride = std::max<std::size_t>(1, cloud.size() * 2 / (3 * std::max<std::size_t>(max_points, 1)));
+  if (threads > 1) cloud.fit_normals(threads, stride);
   for (std::size_t i = 0; i < cloud.size(); i += stride) {
     const bool flat = cloud.has_normal(int(i)) && std::abs(cloud.normal(int(i)).y()) >= min_vertical;
     (flat ? ground : structure).push_back(cloud.points()[i]);

@@ -7,6 +7,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "loopscan/core/parallel.hpp"
+
 namespace loopscan::closure {
 
 const char* to_string(Verdict v) {
@@ -138,7 +140,7 @@ std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& c) {
 
 Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
                       const std::vector<Eigen::Isometry3d>& guesses, const VerifyConfig& config,
-                      const BirdsEyeGrid* birds_eye) {
+                      const BirdsEyeGrid* birds_eye, int threads) {
   validate(config);
   Loop loop;
   if (int(query.size()) < config.min_points || int(place.points.size()) < config.min_points ||
@@ -171,11 +173,11 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
   const std::size_t stride = std::size_t(config.icp.stage_strides.front());
   const Points3f subset = every_nth(place.points, stride);
   const std::size_t subset_structure = (place.structure + stride - 1) / stride;
-  std::vector<IcpResult> screened;
-  for (const Eigen::Isometry3d& start : starts) {
-    screened.push_back(align_point_to_plane(subset, query, start, screen, subset_structure));
-    loop.iterations += screened.back().iterations;
-  }
+  std::vector<IcpResult> screened(starts.size());
+  for_each_index(starts.size(), threads, [&](std::size_t i) {
+    screened[i] = align_point_to_plane(subset, query, starts[i], screen, subset_structure);
+  });
+  for (const IcpResult& r : screened) loop.iterations += r.iterations;
   // The best start, and the best one that converged elsewhere (a street looks much like its
   // mirror image after a coarse stage): both are refined, the better refined one wins.
   const auto far_from = [](const IcpResult& x, const IcpResult& y) {
@@ -201,14 +203,16 @@ Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
     loop.verdict = Verdict::LowOverlap;
     return loop;
   }
-  std::vector<IcpResult> refined;
-  for (std::size_t k = 0; k < finalists.size(); ++k) {
+  std::vector<IcpResult> refined(finalists.size());
+  for_each_index(finalists.size(), threads, [&](std::size_t k) {
     const Eigen::Isometry3d start = screened[finalists[k]].T_target_source;
-    refined.push_back(refine.stage_distances_m.empty()
-                          ? score_alignment(place.points, query, start, config.icp, place.structure)
-                          : align_point_to_plane(place.points, query, start, refine, place.structure));
-    loop.iterations += refined.back().iterations;
-    if (k == 0 || refined.back().overlap > best.overlap) best = refined.back();
+    refined[k] = refine.stage_distances_m.empty()
+                     ? score_alignment(place.points, query, start, config.icp, place.structure)
+                     : align_point_to_plane(place.points, query, start, refine, place.structure);
+  });
+  for (std::size_t k = 0; k < refined.size(); ++k) {
+    loop.iterations += refined[k].iterations;
+    if (k == 0 || refined[k].overlap > best.overlap) best = refined[k];
   }
   bool ambiguous = false;
   for (const IcpResult& r : refined) {

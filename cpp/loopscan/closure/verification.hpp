@@ -138,8 +138,10 @@ std::vector<Eigen::Isometry3d> yaw_guesses(const Candidate& candidate);
 // `guesses`: initial T_query_match (a yaw from the descriptor, or the pose the graph predicts);
 // ICP starts from each, and from the best poses of a bird's-eye search around them when the
 // query's grid is given (from each guess shifted along the query's track otherwise).
+// `threads` > 1: the starts, then the finalists, aligned on that many threads; the same loop
+// whatever the count.
 Loop verify_candidate(const TargetCloud& query, const PlaceCloud& place,
                       const std::vector<Eigen::Isometry3d>& guesses, const VerifyConfig& config = {},
-                      const BirdsEyeGrid* birds_eye = nullptr);
+                      const BirdsEyeGrid* birds_eye = nullptr, int threads = 1);
 
 }  // namespace loopscan::closure

@@ -182,6 +182,8 @@ void visit_closure(V& v, Configuration& c) {
         "a query skips the places of the last N keyframes (the paper's 100-place mask)");
   v.key("true_within_m", c.closure.true_within_m, above(0, 1000),
         "with ground truth: a loop is true when its keyframes are this close (m)");
+  v.key("threads", l.threads, closed(1, 256),
+        "threads for each candidate's alignments and the plane fits (the same results)");
   v.section("background", "close, slam: verification and graph solves on a worker thread", [&] {
     v.key("enabled", c.closure.background, "false: everything on the caller's thread");
     v.key("queue_capacity", c.closure.queue_capacity, closed(1, 1e5),

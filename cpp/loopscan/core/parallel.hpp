@@ -3,6 +3,8 @@
 // items i = t, t + threads, ... so the split, and therefore every result, is deterministic.
 // An exception leaving a worker is kept, every thread is joined, then the first one (lowest t)
 // is rethrown: a throwing item (a bad input, a caller's callback) never ends the process.
+#include <algorithm>
+#include <cstddef>
 #include <exception>
 #include <thread>
 #include <vector>
@@ -26,6 +28,17 @@ void run_on_threads(int threads, Work&& work) {
   for (const std::exception_ptr& e : failed) {
     if (e) std::rethrow_exception(e);
   }
+}
+
+// work(i) for i in [0, n), on up to `threads` threads (never more than n): item i on thread
+// i mod that count.
+template <typename Work>
+void for_each_index(std::size_t n, int threads, Work&& work) {
+  const std::size_t workers =
+      std::max<std::size_t>(1, std::min(static_cast<std::size_t>(std::max(threads, 1)), n));
+  run_on_threads(static_cast<int>(workers), [&](int t) {
+    for (std::size_t i = static_cast<std::size_t>(t); i < n; i += workers) work(i);
+  });
 }
 
 }  // namespace loopscan
