@@ -13,9 +13,10 @@ namespace {
 closure::LoopCloserConfig closer_config(const std::optional<std::string>& method,
                                         const std::optional<std::string>& mode,
                                         const std::optional<double>& range_m,
-                                        const std::optional<std::string>& config, int threads) {
-  if (threads < 1 || threads > 256) {
-    throw py::value_error("threads: expected 1 to 256, got " + std::to_string(threads));
+                                        const std::optional<std::string>& config,
+                                        const std::optional<int>& threads) {
+  if (threads && (*threads < 1 || *threads > 256)) {
+    throw py::value_error("threads: expected 1 to 256, got " + std::to_string(*threads));
   }
   closure::LoopCloserConfig out;
   if (!config) {
@@ -27,7 +28,7 @@ closure::LoopCloserConfig closer_config(const std::optional<std::string>& method
     validate_loop_closing(c);
     out = loop_closer_config(c);
   }
-  out.threads = threads;
+  if (threads) out.threads = *threads;  // else the file's closure.threads, or 1
   return out;
 }
 
@@ -75,15 +76,15 @@ void bind_closure(py::module_& m) {
                          "Online loop closing: recognition, ICP verification, pose graph.")
       .def(py::init([](const std::optional<std::string>& method,
                        const std::optional<std::string>& mode, const std::optional<double>& range_m,
-                       const std::optional<std::string>& config, int threads) {
+                       const std::optional<std::string>& config, const std::optional<int>& threads) {
              return LoopCloser(closer_config(method, mode, range_m, config, threads));
            }),
            py::arg("method") = py::none(), py::arg("mode") = py::none(),
            py::arg("range_m") = py::none(), py::arg("config") = py::none(),
-           py::arg("threads") = 1,
+           py::arg("threads") = py::none(),
            "As Recognizer: method (default sc), mode, range_m (default 45), or a configuration "
-           "file (the CLI's --config) with its closure section; threads split each candidate's "
-           "alignments (the same loops whatever the count).")
+           "file (the CLI's --config) with its closure section; threads (default: the file's "
+           "closure.threads, else 1) split each candidate's alignments (the same loops).")
       .def("add_keyframe", &add_keyframe_arrays<LoopCloser>, py::arg("keyframe"),
            py::arg("T_cam_world"), py::arg("points"), py::arg("reset") = false)
       .def("finish",
@@ -103,7 +104,7 @@ void bind_closure(py::module_& m) {
       .def(py::init([](const std::optional<std::string>& method,
                        const std::optional<std::string>& mode, const std::optional<double>& range_m,
                        const std::optional<std::string>& config, int queue_capacity,
-                       const std::string& when_full, int threads) {
+                       const std::string& when_full, const std::optional<int>& threads) {
              closure::BackgroundConfig background;
              background.queue_capacity = queue_capacity;
              background.when_full = parse_when_full(when_full);
@@ -112,7 +113,8 @@ void bind_closure(py::module_& m) {
            }),
            py::arg("method") = py::none(), py::arg("mode") = py::none(),
            py::arg("range_m") = py::none(), py::arg("config") = py::none(),
-           py::arg("queue_capacity") = 32, py::arg("when_full") = "skip", py::arg("threads") = 1,
+           py::arg("queue_capacity") = 32, py::arg("when_full") = "skip",
+           py::arg("threads") = py::none(),
            "As LoopCloser, plus the queue: when it is full, 'skip' leaves the oldest waiting "
            "keyframe unverified (it still joins the graph), 'wait' blocks add_keyframe.")
       .def("add_keyframe", &add_keyframe_arrays<BackgroundLoopCloser>, py::arg("keyframe"),

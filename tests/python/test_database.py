@@ -166,6 +166,13 @@ def test_recognizer_and_closer_take_a_configuration_file(tmp_path):
     with pytest.raises(ValueError, match="lookahead_m"):
         loopscan.LoopCloser(config=str(two_sided))
     assert loopscan.LoopCloser(config=str(config), range_m=40.0) is not None
+    no_threads = tmp_path / "no_threads.yaml"
+    no_threads.write_text("closure:\n  threads: 0\n")
+    with pytest.raises(RuntimeError, match=r"no_threads\.yaml:2"):
+        loopscan.LoopCloser(config=str(no_threads))
+    threaded = tmp_path / "threaded.yaml"
+    threaded.write_text("closure:\n  threads: 2\n")
+    assert loopscan.LoopCloser(config=str(threaded), threads=3) is not None
 
 
 def test_database_takes_a_configuration_file(tmp_path):
