@@ -299,10 +299,11 @@ BENCHMARK(BM_GraphDriveOnline)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 
-// The whole closer over the k06 drive with `close`'s default configuration, one thread: each
-// stage's milliseconds from the closer's own stage clocks, the means metrics.json reports (the
-// per-verification figure counts every verified candidate, accepted or not).
-void BM_CloseDrive(benchmark::State& state) {  // argument: the closer's threads
+// The whole closer over the k06 drive with `close`'s default configuration on the argument's
+// threads (the targets are one thread's): each stage's milliseconds from the closer's own stage
+// clocks, the means metrics.json reports (the per-verification figure counts every verified
+// candidate, accepted or not).
+void BM_CloseDrive(benchmark::State& state) {
   const Fixture& f = fixture();  // read before the timing starts
   closure::LoopCloserConfig config = loop_closer_config(Configuration::defaults());
   config.threads = int(state.range(0));

@@ -15,9 +15,6 @@ closure::LoopCloserConfig closer_config(const std::optional<std::string>& method
                                         const std::optional<double>& range_m,
                                         const std::optional<std::string>& config,
                                         const std::optional<int>& threads) {
-  if (threads && (*threads < 1 || *threads > 256)) {
-    throw py::value_error("threads: expected 1 to 256, got " + std::to_string(*threads));
-  }
   closure::LoopCloserConfig out;
   if (!config) {
     out = closure::LoopCloserConfig::make(parse_method(method.value_or("sc")),
@@ -28,7 +25,8 @@ closure::LoopCloserConfig closer_config(const std::optional<std::string>& method
     validate_loop_closing(c);
     out = loop_closer_config(c);
   }
-  if (threads) out.threads = *threads;  // else the file's closure.threads, or 1
+  // Else the file's closure.threads, or 1; the closer refuses a bad count (a ValueError).
+  if (threads) out.threads = *threads;
   return out;
 }
 

@@ -161,6 +161,20 @@ inline ::testing::AssertionResult same_loops(const std::vector<closure::Loop>& a
   return ::testing::AssertionSuccess();
 }
 
+// Two runs' place clouds alike to the bit: points and structure counts.
+inline ::testing::AssertionResult same_clouds(const std::vector<PlaceCloud>& a,
+                                              const std::vector<PlaceCloud>& b) {
+  if (a.size() != b.size()) {
+    return ::testing::AssertionFailure() << a.size() << " against " << b.size() << " clouds";
+  }
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].structure != b[i].structure || !(a[i].points == b[i].points)) {
+      return ::testing::AssertionFailure() << "place cloud " << i << " differs";
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
 // Two runs' corrected poses alike to the bit, ids included.
 inline ::testing::AssertionResult same_poses(const std::vector<KeyframePose>& a,
                                              const std::vector<KeyframePose>& b) {

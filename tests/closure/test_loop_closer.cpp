@@ -219,12 +219,7 @@ TEST(LoopCloser, PlacesClassifiedOnFirstUseAreThoseClassifiedAtOnce) {
   for (const closure::LoopCloser* c : {&lazy, &capped}) {
     EXPECT_TRUE(test::same_loops(c->loops(), oracle.loops()));
     EXPECT_TRUE(test::same_poses(c->corrected_poses(), oracle.corrected_poses()));
-    const std::vector<PlaceCloud> ca = c->place_clouds(), cb = oracle.place_clouds();
-    ASSERT_EQ(ca.size(), cb.size());
-    for (std::size_t i = 0; i < ca.size(); ++i) {
-      EXPECT_EQ(ca[i].structure, cb[i].structure) << i;
-      EXPECT_TRUE(ca[i].points == cb[i].points) << i;
-    }
+    EXPECT_TRUE(test::same_clouds(c->place_clouds(), oracle.place_clouds()));
     EXPECT_EQ(c->unclassified_places(), 0u);  // place_clouds classified the rest
   }
 }
@@ -248,12 +243,7 @@ TEST(LoopCloser, ThreadsGiveTheSameLoopsPosesAndClouds) {
   EXPECT_TRUE(test::same_loops(three.loops(), one.loops()));
   EXPECT_TRUE(test::same_poses(three.corrected_poses(), one.corrected_poses()));
   EXPECT_GT(three.unclassified_places(), 3u);  // the map's waiting places, on threads too
-  const std::vector<PlaceCloud> a = three.place_clouds(), b = one.place_clouds();
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_EQ(a[i].structure, b[i].structure) << i;
-    EXPECT_TRUE(a[i].points == b[i].points) << i;
-  }
+  EXPECT_TRUE(test::same_clouds(three.place_clouds(), one.place_clouds()));
   closure::LoopCloserConfig none = config;
   none.threads = 0;
   EXPECT_THROW(closure::LoopCloser{none}, std::invalid_argument);

@@ -156,23 +156,23 @@ def test_recognizer_and_closer_take_a_configuration_file(tmp_path):
 
     with pytest.raises(ValueError, match="bev"):
         loopscan.Recognizer(method="sc", config=str(config))
-    bad = tmp_path / "bad.yaml"
-    bad.write_text("imitation:\n  range_m: -1\n")
+
+    def config_file(name, text):
+        path = tmp_path / f"{name}.yaml"
+        path.write_text(text)
+        return str(path)
+
     with pytest.raises(RuntimeError, match=r"bad\.yaml:2"):
-        loopscan.Recognizer(config=str(bad))
-    two_sided = tmp_path / "two_sided.yaml"
-    two_sided.write_text("imitation:\n  lookahead_m: 10\n")
-    loopscan.Recognizer(config=str(two_sided))  # a recognizer may wait for the scan ahead
+        loopscan.Recognizer(config=config_file("bad", "imitation:\n  range_m: -1\n"))
+    two_sided = config_file("two_sided", "imitation:\n  lookahead_m: 10\n")
+    loopscan.Recognizer(config=two_sided)  # a recognizer may wait for the scan ahead
     with pytest.raises(ValueError, match="lookahead_m"):
-        loopscan.LoopCloser(config=str(two_sided))
+        loopscan.LoopCloser(config=two_sided)
     assert loopscan.LoopCloser(config=str(config), range_m=40.0) is not None
-    no_threads = tmp_path / "no_threads.yaml"
-    no_threads.write_text("closure:\n  threads: 0\n")
     with pytest.raises(RuntimeError, match=r"no_threads\.yaml:2"):
-        loopscan.LoopCloser(config=str(no_threads))
-    threaded = tmp_path / "threaded.yaml"
-    threaded.write_text("closure:\n  threads: 2\n")
-    assert loopscan.LoopCloser(config=str(threaded), threads=3) is not None
+        loopscan.LoopCloser(config=config_file("no_threads", "closure:\n  threads: 0\n"))
+    threaded = config_file("threaded", "closure:\n  threads: 2\n")
+    assert loopscan.LoopCloser(config=threaded, threads=3) is not None
 
 
 def test_database_takes_a_configuration_file(tmp_path):

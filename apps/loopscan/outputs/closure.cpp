@@ -241,7 +241,6 @@ ClosureRun run_closer(const closure::LoopCloserConfig& config,
   ClosureRun run;
   run.input = poses;
   run.resets = reset_ids;
-  run.threads = config.threads;
   std::sort(run.resets.begin(), run.resets.end());
   run.session = config.recognition.session;
   Database places = map ? std::move(map->places) : Database(map_config(config.recognition));
@@ -381,7 +380,7 @@ ClosureOutputs write_closure_outputs(const std::string& dir, const ClosureRun& r
                        {{"p50", latency.p50_ms}, {"p99", latency.p99_ms}, {"max", latency.max_ms}}},
                       {"peak_memory_mb", run.peak_memory_mb},
                       {"background", run.background},
-                      {"threads", run.threads},
+                      {"threads", c.closure.closer.threads},
                       {"map_clouds_ms", run.clouds_ms},
                       {"queue_waits", {{"count", run.queue_waits}, {"ms", run.queue_wait_ms}}},
                       {"map_places", run.map.size()},

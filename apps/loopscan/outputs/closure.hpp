@@ -39,7 +39,6 @@ struct ClosureRun {
   std::vector<PlaceCloud> clouds;
   // Classifying, for the map, the places no verification needed (part of total_ms).
   double clouds_ms = 0;
-  int threads = 1;  // the closer's (closure::LoopCloserConfig::threads)
 };
 
 struct SavedMap {

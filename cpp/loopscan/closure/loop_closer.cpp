@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -71,7 +72,8 @@ void validate(const LoopCloserConfig& c) {
         "it verifies each keyframe and adds it to the graph as the keyframe arrives");
   }
   if (c.threads < 1 || c.threads > 256) {
-    throw std::invalid_argument("loop closer config: threads in [1, 256]");
+    throw std::invalid_argument("loop closer config: threads: expected 1 to 256, got " +
+                                std::to_string(c.threads));
   }
   validate(c.cloud);
   validate(c.verify);

@@ -31,11 +31,15 @@ void run_on_threads(int threads, Work&& work) {
 }
 
 // work(i) for i in [0, n), on up to `threads` threads (never more than n): item i on thread
-// i mod that count.
+// i mod that count. One thread runs the items in order on the caller's, with nothing to set up.
 template <typename Work>
 void for_each_index(std::size_t n, int threads, Work&& work) {
   const std::size_t workers =
       std::max<std::size_t>(1, std::min(static_cast<std::size_t>(std::max(threads, 1)), n));
+  if (workers == 1) {
+    for (std::size_t i = 0; i < n; ++i) work(i);
+    return;
+  }
   run_on_threads(static_cast<int>(workers), [&](int t) {
     for (std::size_t i = static_cast<std::size_t>(t); i < n; i += workers) work(i);
   });

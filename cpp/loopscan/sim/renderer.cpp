@@ -100,10 +100,8 @@ std::uint8_t gray_level(double g) {
 // row (per-row state such as the noise stream).
 template <class Row>
 void for_each_row(const StereoCamera& camera, int threads, Row&& row) {
-  threads = std::max(1, threads);
-  run_on_threads(threads, [&](int t) {
-    for (int v = t; v < camera.height; v += threads) row(v);
-  });
+  for_each_index(std::size_t(std::max(camera.height, 0)), threads,
+                 [&](std::size_t v) { row(int(v)); });
 }
 
 struct RowJob {

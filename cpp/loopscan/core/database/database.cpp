@@ -178,11 +178,9 @@ std::vector<Candidate> Database::query(const PlaceDescriptor& descriptor, int k,
   if (exact) {
     // Many places may be scored on several threads (results identical: each place's
     // distances are computed the same way whichever thread does it).
-    const int threads = scored.size() >= 256 ? std::max(1, options.threads) : 1;
-    run_on_threads(threads, [&](int t) {
-      for (std::size_t j = static_cast<std::size_t>(t); j < scored.size(); j += threads) {
-        store_->distances(*query, store_->record(scored[j]), &raw[j * C]);
-      }
+    const int threads = scored.size() >= 256 ? options.threads : 1;
+    for_each_index(scored.size(), threads, [&](std::size_t j) {
+      store_->distances(*query, store_->record(scored[j]), &raw[j * C]);
     });
     if (need_stats) {
       for (int c = 0; c < C; ++c) stats[c] = stats_of(raw, C, c);
