@@ -24,13 +24,11 @@ struct Drive {
 
 // A built-in route (default: the short one, a block and its first street again) with a
 // drifting VO (default 1 %), driven `laps` times (the world built along one lap and the way
-// back to its start).
+// back to its start), in the default world or `wc`'s.
 inline Drive drive(sim::Season season, unsigned session, const std::string& route = "short",
-                   double drift_per_m = 0.02, int laps = 1) {
+                   double drift_per_m = 0.02, int laps = 1, const sim::WorldConfig& wc = {}) {
   const sim::Trajectory one_lap = sim::make_builtin_trajectory(route);
   Drive d{sim::drive_laps(one_lap, laps), {}};
-  sim::WorldConfig wc;
-  wc.seed = 1;
   const sim::World world = sim::World::build(sim::lap_streets(one_lap, laps), wc);
   sim::Conditions conditions = sim::Conditions::for_season(season);
   conditions.session_seed = session;
