@@ -22,23 +22,29 @@ struct Drive {
   sim::VoOutput vo;
 };
 
-// A built-in route (default: the short one, a block and its first street again) with a
-// drifting VO (default 1 %), driven `laps` times (the world built along one lap and the way
-// back to its start), in the default world or `wc`'s.
-inline Drive drive(sim::Season season, unsigned session, const std::string& route = "short",
-                   double drift_per_m = 0.02, int laps = 1, const sim::WorldConfig& wc = {}) {
+// A built-in route driven `laps` times (the world built along one lap and the way back to its
+// start) in world `wc`, simulated by `vo` (its seed drawn from the session's).
+inline Drive drive_in(sim::Season season, unsigned session, const std::string& route, int laps,
+                      const sim::WorldConfig& wc, sim::VoSimConfig vo) {
   const sim::Trajectory one_lap = sim::make_builtin_trajectory(route);
   Drive d{sim::drive_laps(one_lap, laps), {}};
   const sim::World world = sim::World::build(sim::lap_streets(one_lap, laps), wc);
   sim::Conditions conditions = sim::Conditions::for_season(season);
   conditions.session_seed = session;
-  sim::VoSimConfig vo;
   vo.seed = conditions.noise_seed(wc.seed);
-  vo.drift_translation_per_m = drift_per_m;
-  vo.drift_rotation_deg_per_m = 3 * drift_per_m;
   d.vo = sim::simulate_vo(d.route, sim::select_keyframes(d.route), world, conditions,
                           sim::StereoCamera{}, vo);
   return d;
+}
+
+// The default world and a drifting VO (default 1 %: `drift_per_m` metres and 3 x that in
+// degrees a metre); the route by default the short one, a block and its first street again.
+inline Drive drive(sim::Season season, unsigned session, const std::string& route = "short",
+                   double drift_per_m = 0.02, int laps = 1) {
+  sim::VoSimConfig vo;
+  vo.drift_translation_per_m = drift_per_m;
+  vo.drift_rotation_deg_per_m = 3 * drift_per_m;
+  return drive_in(season, session, route, laps, {}, vo);
 }
 
 template <typename PerKeyframe>
